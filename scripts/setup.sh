@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs every Debian package StateBench needs (idempotent; sudo when not root) and builds the
+# project in Release into build/. Usage: bash scripts/setup.sh [--no-build]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  build-essential cmake pkg-config git
+  libeigen3-dev libyaml-cpp-dev libceres-dev libgeographiclib-dev libtbb-dev
+  libbullet-dev libpcl-dev libsqlite3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  sumo sumo-tools
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#PACKAGES[@]} packages present"
+fi
+
+# SUMO's tools and data live under SUMO_HOME (Debian: /usr/share/sumo).
+export SUMO_HOME="${SUMO_HOME:-/usr/share/sumo}"
+
+if [ "${1:-}" != "--no-build" ]; then
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+  cmake --build build -j"$(nproc)"
+fi
