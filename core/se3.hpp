@@ -4,6 +4,8 @@
 //   Exp(rho, phi) = (Exp_SO3(phi), Jl(phi) rho),   Jl the SO(3) left Jacobian.
 #pragma once
 
+#include <cmath>
+
 #include "core/eigen_types.hpp"
 #include "core/so3.hpp"
 
@@ -12,7 +14,9 @@ namespace statebench {
 class SE3 {
  public:
   SE3() : q_(Quat::Identity()), t_(Vec3::Zero()) {}
-  SE3(const Quat& q, const Vec3& t) : q_(q.normalized()), t_(t) {}
+  // Normalises q unless it already is of unit norm to rounding, so that a stored quaternion
+  // read back gives the identical transform.
+  SE3(const Quat& q, const Vec3& t) : q_(NormalizedIfNeeded(q)), t_(t) {}
   SE3(const Mat3& r, const Vec3& t) : q_(Quat(r).normalized()), t_(t) {}
 
   static SE3 Identity() { return SE3(); }
@@ -32,6 +36,10 @@ class SE3 {
   static SE3 Interpolate(const SE3& t0, const SE3& t1, double alpha);
 
  private:
+  static Quat NormalizedIfNeeded(const Quat& q) {
+    return std::abs(q.squaredNorm() - 1.0) > 1e-15 ? q.normalized() : q;
+  }
+
   Quat q_;
   Vec3 t_;
 };

@@ -1,0 +1,223 @@
+#include "core/truth_io.hpp"
+
+#include <cstdio>
+
+#include "core/csv.hpp"
+#include "core/error.hpp"
+
+namespace statebench {
+namespace {
+
+constexpr std::size_t kFlushBytes = 1 << 20;
+
+void AppendVec(std::string& out, const Vec3& v) {
+  for (int i = 0; i < 3; ++i) {
+    out.push_back(',');
+    AppendNumber(out, v[i]);
+  }
+}
+
+void AppendQuat(std::string& out, const Quat& q) {
+  for (const double c : {q.w(), q.x(), q.y(), q.z()}) {
+    out.push_back(',');
+    AppendNumber(out, c);
+  }
+}
+
+void AppendScalar(std::string& out, double v) {
+  out.push_back(',');
+  AppendNumber(out, v);
+}
+
+std::vector<std::string> MakeColumns() {
+  std::vector<std::string> c = {"t_ns"};
+  auto add3 = [&c](const std::string& p) {
+    for (const char* s : {"_x", "_y", "_z"}) c.push_back(p + s);
+  };
+  auto add_q = [&c](const std::string& p) {
+    for (const char* s : {"_w", "_x", "_y", "_z"}) c.push_back(p + s);
+  };
+  add3("p_world_body");
+  add_q("q_world_body");
+  add3("v_world");
+  add3("a_world");
+  add3("omega_body");
+  add3("alpha_body");
+  add3("v_body");
+  add3("f_body");
+  for (const char* s : {"steer_front", "steer_rear", "omega_wheel_fl", "omega_wheel_fr",
+                        "omega_wheel_rl", "omega_wheel_rr", "sideslip", "distance"}) {
+    c.emplace_back(s);
+  }
+  add3("p_world_imu");
+  add_q("q_world_imu");
+  add3("omega_imu");
+  add3("f_imu");
+  return c;
+}
+
+void WriteAll(std::ofstream& f, std::string& buf, const std::filesystem::path& path) {
+  f.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  buf.clear();
+  if (!f) throw InputError(path.string() + ": write failed");
+}
+
+}  // namespace
+
+const std::vector<std::string>& TruthCsvColumns() {
+  static const std::vector<std::string> columns = MakeColumns();
+  return columns;
+}
+
+void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame) {
+  char stamp[48];
+  const TimeNs sec = t_ns / kNsPerSecond;
+  const TimeNs frac = t_ns % kNsPerSecond;
+  std::snprintf(stamp, sizeof(stamp), "%s%lld.%09lld", (t_ns < 0 && sec == 0) ? "-" : "",
+                static_cast<long long>(sec), static_cast<long long>(frac < 0 ? -frac : frac));
+  out += stamp;
+  const Vec3& t = T_world_frame.translation();
+  const Quat& q = T_world_frame.rotation();
+  for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) {
+    out.push_back(' ');
+    AppendNumber(out, v);
+  }
+  out.push_back('\n');
+}
+
+TruthWriter::TruthWriter(const std::filesystem::path& dir, const SE3& T_body_imu)
+    : dir_(dir), T_body_imu_(T_body_imu) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  csv_.open(dir / "truth.csv", std::ios::binary);
+  tum_body_.open(dir / "truth_body.tum", std::ios::binary);
+  tum_imu_.open(dir / "truth_imu.tum", std::ios::binary);
+  if (!csv_ || !tum_body_ || !tum_imu_) {
+    throw InputError(dir.string() + ": cannot create truth files");
+  }
+  const auto& cols = TruthCsvColumns();
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    csv_buf_ += (i == 0 ? "" : ",") + cols[i];
+  }
+  csv_buf_ += '\n';
+  tum_body_buf_ = "# t tx ty tz qx qy qz qw  (T_world_body)\n";
+  tum_imu_buf_ = "# t tx ty tz qx qy qz qw  (T_world_imu)\n";
+}
+
+TruthWriter::~TruthWriter() {
+  if (!closed_) {
+    try {
+      Close();
+    } catch (...) {
+      // Destructors must not throw; Close() reports errors to callers that use it.
+    }
+  }
+}
+
+void TruthWriter::Write(const TruthSample& s) {
+  const FrameKinematics& b = s.body;
+  const FrameKinematics imu = b.AtMount(T_body_imu_);
+  std::string& o = csv_buf_;
+  AppendNumber(o, s.t_ns);
+  AppendVec(o, b.T_world_frame.translation());
+  AppendQuat(o, b.T_world_frame.rotation());
+  AppendVec(o, b.v_world);
+  AppendVec(o, b.a_world);
+  AppendVec(o, b.omega_frame);
+  AppendVec(o, b.alpha_frame);
+  AppendVec(o, b.VelocityInFrame());
+  AppendVec(o, b.SpecificForce());
+  AppendScalar(o, s.steering_front_rad);
+  AppendScalar(o, s.steering_rear_rad);
+  for (const double w : s.wheel_omega_radps) AppendScalar(o, w);
+  AppendScalar(o, s.sideslip_rad);
+  AppendScalar(o, s.distance_m);
+  AppendVec(o, imu.T_world_frame.translation());
+  AppendQuat(o, imu.T_world_frame.rotation());
+  AppendVec(o, imu.omega_frame);
+  AppendVec(o, imu.SpecificForce());
+  o.push_back('\n');
+  AppendTumLine(tum_body_buf_, s.t_ns, b.T_world_frame);
+  AppendTumLine(tum_imu_buf_, s.t_ns, imu.T_world_frame);
+  if (csv_buf_.size() > kFlushBytes) FlushBuffers();
+}
+
+void TruthWriter::FlushBuffers() {
+  WriteAll(csv_, csv_buf_, dir_ / "truth.csv");
+  WriteAll(tum_body_, tum_body_buf_, dir_ / "truth_body.tum");
+  WriteAll(tum_imu_, tum_imu_buf_, dir_ / "truth_imu.tum");
+}
+
+void TruthWriter::Close() {
+  if (closed_) return;
+  closed_ = true;
+  FlushBuffers();
+  csv_.close();
+  tum_body_.close();
+  tum_imu_.close();
+  if (!csv_ || !tum_body_ || !tum_imu_) throw InputError(dir_.string() + ": closing truth files failed");
+}
+
+TruthReadResult ReadTruthCsv(const std::filesystem::path& path) {
+  TruthReadResult result;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    result.error = path.string() + ": cannot open";
+    return result;
+  }
+  const std::string file = path.string();
+  std::string line;
+  if (!std::getline(in, line)) {
+    result.error = file + ":1: empty file, expected a header";
+    return result;
+  }
+  std::vector<std::string> header;
+  try {
+    header = ParseCsvHeader(file, line, TruthCsvColumns());
+  } catch (const InputError& e) {
+    result.error = e.what();
+    return result;
+  }
+  std::size_t line_no = 1;
+  try {
+    while (std::getline(in, line)) {
+      ++line_no;
+      if (line.empty() || line == "\r") continue;
+      const CsvRow row(file, line_no, &header, SplitCsvLine(line));
+      if (row.size() < header.size()) row.Fail(row.size(), "missing value (row too short)");
+      std::size_t c = 0;
+      auto vec = [&row, &c] {
+        const Vec3 v(row.Double(c), row.Double(c + 1), row.Double(c + 2));
+        c += 3;
+        return v;
+      };
+      TruthSample s;
+      s.t_ns = row.Int(c++);
+      if (!result.samples.empty() && s.t_ns <= result.samples.back().t_ns) {
+        row.Fail(0, "timestamp does not increase (previous " +
+                        std::to_string(result.samples.back().t_ns) + ")");
+      }
+      const Vec3 p = vec();
+      const Quat q(row.Double(c), row.Double(c + 1), row.Double(c + 2), row.Double(c + 3));
+      c += 4;
+      if (std::abs(q.norm() - 1.0) > 1e-6) row.Fail(c - 4, "quaternion is not of unit norm");
+      s.body.T_world_frame = SE3(q, p);
+      s.body.v_world = vec();
+      s.body.a_world = vec();
+      s.body.omega_frame = vec();
+      s.body.alpha_frame = vec();
+      c += 6;  // v_body and f_body are derived from the columns above
+      s.steering_front_rad = row.Double(c++);
+      s.steering_rear_rad = row.Double(c++);
+      for (double& w : s.wheel_omega_radps) w = row.Double(c++);
+      s.sideslip_rad = row.Double(c++);
+      s.distance_m = row.Double(c++);
+      result.samples.push_back(s);
+    }
+  } catch (const InputError& e) {
+    result.error = e.what();
+  }
+  return result;
+}
+
+}  // namespace statebench

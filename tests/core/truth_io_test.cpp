@@ -1,0 +1,122 @@
+#include "core/truth_io.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace statebench {
+namespace {
+
+std::filesystem::path FreshDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("statebench_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+TruthSample MakeSample(int i) {
+  TruthSample s;
+  s.t_ns = 1000000LL * i;
+  s.body.T_world_frame = SE3(so3::FromRollPitchYaw(0.01 * i, -0.02, 0.1 * i / 3.0),
+                             Vec3(0.1 * i, 1.0 / 3.0, -2.5e-7 * i));
+  s.body.v_world = Vec3(1.0 / 7.0, 2, 3);
+  s.body.a_world = Vec3(0.1, -0.2, 0.3 * i);
+  s.body.omega_frame = Vec3(0.01, 0.02, 0.03);
+  s.body.alpha_frame = Vec3(-1, 0, 1);
+  s.steering_front_rad = 0.05;
+  s.wheel_omega_radps = {1, 2, 3, 4.5};
+  s.sideslip_rad = 0.001;
+  s.distance_m = i * 0.01;
+  return s;
+}
+
+TEST(TruthIo, RoundTripIsBitExact) {
+  const auto dir = FreshDir("truth_rt");
+  {
+    TruthWriter w(dir, SE3(Quat::Identity(), Vec3(0.2, 0, 0.5)));
+    for (int i = 0; i < 50; ++i) w.Write(MakeSample(i));
+    w.Close();
+  }
+  const TruthReadResult r = ReadTruthCsv(dir / "truth.csv");
+  ASSERT_FALSE(r.error) << *r.error;
+  ASSERT_EQ(r.samples.size(), 50u);
+  for (int i = 0; i < 50; ++i) {
+    const TruthSample e = MakeSample(i);
+    const TruthSample& g = r.samples[i];
+    EXPECT_EQ(g.t_ns, e.t_ns);
+    EXPECT_EQ(g.body.T_world_frame.translation(), e.body.T_world_frame.translation());
+    EXPECT_EQ(g.body.T_world_frame.rotation().coeffs(), e.body.T_world_frame.rotation().coeffs());
+    EXPECT_EQ(g.body.a_world, e.body.a_world);
+    EXPECT_EQ(g.wheel_omega_radps, e.wheel_omega_radps);
+    EXPECT_EQ(g.distance_m, e.distance_m);
+  }
+  std::ifstream tum(dir / "truth_body.tum");
+  std::string header, first;
+  std::getline(tum, header);
+  std::getline(tum, first);
+  EXPECT_EQ(first.substr(0, 12), "0.000000000 ");
+}
+
+// Copies truth.csv with cell `column` of file line `bad_line` replaced by `value`.
+std::string WriteBrokenCopy(const std::filesystem::path& dir, int bad_line, int column,
+                            const std::string& old_text, const std::string& value) {
+  std::ifstream in(dir / "truth.csv");
+  std::stringstream out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n == bad_line) {
+      std::size_t begin = 0;
+      for (int c = 0; c < column; ++c) begin = line.find(',', begin) + 1;
+      const std::size_t end = line.find(',', begin);
+      EXPECT_TRUE(old_text.empty() || line.substr(begin, end - begin) == old_text);
+      line.replace(begin, end - begin, value);
+    }
+    out << line << '\n';
+  }
+  const auto path = dir / ("broken_" + std::to_string(bad_line) + ".csv");
+  std::ofstream(path) << out.str();
+  return path.string();
+}
+
+TEST(TruthIo, BadRowsAreReportedAndEarlierRowsKept) {
+  const auto dir = FreshDir("truth_bad");
+  {
+    TruthWriter w(dir, SE3());
+    for (int i = 0; i < 10; ++i) w.Write(MakeSample(i));
+  }
+  // NaN on data line 5 (file line 6).
+  TruthReadResult r = ReadTruthCsv(WriteBrokenCopy(dir, 6, 1, "", "nan"));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error->find(":6: column 'p_world_body_x'"), std::string::npos) << *r.error;
+  EXPECT_EQ(r.samples.size(), 4u);
+
+  // Timestamp going backwards on file line 8.
+  r = ReadTruthCsv(WriteBrokenCopy(dir, 8, 0, "", "0"));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error->find(":8: column 't_ns': timestamp does not increase"), std::string::npos)
+      << *r.error;
+  EXPECT_EQ(r.samples.size(), 6u);
+
+  // A misspelt column in the header.
+  r = ReadTruthCsv(WriteBrokenCopy(dir, 1, 12, "a_world_y", "a_world_q"));
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error->find("missing column 'a_world_y'"), std::string::npos) << *r.error;
+  EXPECT_TRUE(r.samples.empty());
+
+  // A row cut short.
+  std::ofstream(dir / "short.csv") << [&] {
+    std::ifstream in(dir / "truth.csv");
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    return header + "\n" + row + "\n" + row.substr(0, row.size() / 2) + "\n";
+  }();
+  r = ReadTruthCsv(dir / "short.csv");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error->find("short.csv:3:"), std::string::npos) << *r.error;
+  EXPECT_EQ(r.samples.size(), 1u);
+}
+
+}  // namespace
+}  // namespace statebench
