@@ -1,0 +1,75 @@
+// Analytic 3D test trajectory with closed-form pose and derivatives (test fixture).
+//
+// Position: a climbing helix with a wavy height, radius 20 m, 0.5 rad/s (10 m/s):
+//   p(t) = (r cos wt, r sin wt, c t + d sin(u t))
+// Attitude: R = Rz(yaw) Ry(pitch) Rx(roll) with yaw along the tangent plus oscillating
+// roll and pitch, so every gyro axis and the specific force vary in time. Body rates from the
+// Z-Y-X Euler rates:
+//   w = (roll' - sin(pitch) yaw',
+//        cos(roll) pitch' + sin(roll) cos(pitch) yaw',
+//        -sin(roll) pitch' + cos(roll) cos(pitch) yaw').
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "core/eigen_types.hpp"
+#include "core/so3.hpp"
+#include "core/state.hpp"
+#include "core/time.hpp"
+
+namespace statebench::est::testing {
+
+class HelixTrajectory {
+ public:
+  static constexpr double kRadius = 20.0, kRate = 0.5, kClimb = 0.5, kWaveAmp = 0.3,
+                          kWaveRate = 0.9;
+
+  Vec3 Position(double t) const {
+    return Vec3(kRadius * std::cos(kRate * t), kRadius * std::sin(kRate * t),
+                kClimb * t + kWaveAmp * std::sin(kWaveRate * t));
+  }
+  Vec3 Velocity(double t) const {
+    return Vec3(-kRadius * kRate * std::sin(kRate * t), kRadius * kRate * std::cos(kRate * t),
+                kClimb + kWaveAmp * kWaveRate * std::cos(kWaveRate * t));
+  }
+  Vec3 Acceleration(double t) const {
+    const double w2 = kRate * kRate;
+    return Vec3(-kRadius * w2 * std::cos(kRate * t), -kRadius * w2 * std::sin(kRate * t),
+                -kWaveAmp * kWaveRate * kWaveRate * std::sin(kWaveRate * t));
+  }
+  // (roll, pitch, yaw) and their time derivatives.
+  Vec3 Euler(double t) const {
+    return Vec3(0.2 * std::sin(0.7 * t + 0.3), 0.1 * std::sin(1.3 * t),
+                kRate * t + std::numbers::pi / 2 + 0.05 * std::sin(2.1 * t));
+  }
+  Vec3 EulerRate(double t) const {
+    return Vec3(0.2 * 0.7 * std::cos(0.7 * t + 0.3), 0.1 * 1.3 * std::cos(1.3 * t),
+                kRate + 0.05 * 2.1 * std::cos(2.1 * t));
+  }
+  Quat Orientation(double t) const {
+    const Vec3 e = Euler(t);
+    return so3::FromRollPitchYaw(e.x(), e.y(), e.z());
+  }
+  Vec3 Gyro(double t) const {
+    const Vec3 e = Euler(t);
+    const Vec3 d = EulerRate(t);
+    const double sr = std::sin(e.x()), cr = std::cos(e.x());
+    const double sp = std::sin(e.y()), cp = std::cos(e.y());
+    return Vec3(d.x() - sp * d.z(), cr * d.y() + sr * cp * d.z(), -sr * d.y() + cr * cp * d.z());
+  }
+  // Specific force in the IMU frame: R^T (a - g).
+  Vec3 Accel(double t) const { return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld); }
+
+  NavState State(TimeNs t_ns) const {
+    const double t = ToSeconds(t_ns);
+    NavState s;
+    s.t_ns = t_ns;
+    s.q_world_imu = Orientation(t);
+    s.p_world = Position(t);
+    s.v_world = Velocity(t);
+    return s;
+  }
+};
+
+}  // namespace statebench::est::testing
