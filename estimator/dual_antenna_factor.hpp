@@ -9,6 +9,9 @@
 //   r = (wrap(yaw(b) - yaw_meas) / sigma_yaw, (pitch(b) - pitch_meas) / sigma_pitch)
 // The yaw difference is wrapped with atan2(sin d, cos d) (smooth, so differentiable at +-pi).
 // A non-positive or non-finite pitch sigma means "yaw only": the pitch residual is 0.
+// A heading taken at t between states is attached to state i (t_i <= t) with the IMU rotation
+// delta dR = R_i^T R_t from the preintegration over [t_i, t]: b = R_i dR b_imu. Its bias
+// correction is neglected (gyro bias error times t - t_i, 1e-5 rad over 10 ms).
 // Parameter block: q_world_imu(4, RightQuaternionManifold). Automatic differentiation.
 #pragma once
 
@@ -24,7 +27,7 @@ namespace statebench::est {
 class DualAntennaFactor {
  public:
   DualAntennaFactor(const DualAntennaHeading& measurement, const Vec3& p_imu_main,
-                    const Vec3& p_imu_aux);
+                    const Vec3& p_imu_aux, const Quat& q_imu_i_imu_t = Quat::Identity());
 
   template <typename T>
   bool operator()(const T* q_world_imu, T* residuals) const {
@@ -45,13 +48,14 @@ class DualAntennaFactor {
   // Throws InputError if the yaw sigma is not positive and finite, an angle is not finite, or
   // the baseline is shorter than 1 cm or vertical in the body frame.
   static ceres::CostFunction* Create(const DualAntennaHeading& measurement, const Vec3& p_imu_main,
-                                     const Vec3& p_imu_aux) {
+                                     const Vec3& p_imu_aux,
+                                     const Quat& q_imu_i_imu_t = Quat::Identity()) {
     return new ceres::AutoDiffCostFunction<DualAntennaFactor, 2, 4>(
-        new DualAntennaFactor(measurement, p_imu_main, p_imu_aux));
+        new DualAntennaFactor(measurement, p_imu_main, p_imu_aux, q_imu_i_imu_t));
   }
 
  private:
-  Vec3 baseline_imu_;
+  Vec3 baseline_imu_;  // main -> aux, in the IMU frame of the state (rotated by dR)
   double yaw_rad_;
   double pitch_rad_;
   double yaw_sigma_rad_;

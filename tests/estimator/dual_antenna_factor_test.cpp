@@ -62,6 +62,17 @@ TEST(DualAntennaFactor, ArbitraryBaselineAndYawWrapAround) {
   EXPECT_NEAR(std::abs(r(0)) * 0.005, 0.004, 2e-4);
 }
 
+TEST(DualAntennaFactor, HeadingBetweenStatesUsesTheImuRotationDelta) {
+  const Quat q_i = so3::FromRollPitchYaw(0.01, 0.02, 0.3);
+  const Quat dR = so3::Exp<double>(Vec3(0.001, -0.002, 0.005));  // 10 ms at 0.5 rad/s yaw
+  const auto m = Measure(q_i * dR, kRear, kFront, 0.002);
+  const std::unique_ptr<ceres::CostFunction> with_delta(
+      DualAntennaFactor::Create(m, kRear, kFront, dR));
+  const std::unique_ptr<ceres::CostFunction> without(DualAntennaFactor::Create(m, kRear, kFront));
+  EXPECT_LT(Residual(*with_delta, q_i).norm(), 1e-10);
+  EXPECT_GT(Residual(*without, q_i).norm(), 2.0);  // 5 mrad of yaw is 2.5 sigma
+}
+
 TEST(DualAntennaFactor, YawOnlyWhenPitchSigmaMissingAndRejectsBadInput) {
   const Quat q = so3::FromRollPitchYaw(0.0, 0.2, 0.5);
   DualAntennaHeading m = Measure(q, kRear, kFront, 0.01);
