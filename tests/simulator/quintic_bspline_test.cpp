@@ -1,0 +1,53 @@
+#include "simulator/quintic_bspline.hpp"
+
+#include <gtest/gtest.h>
+
+namespace statebench::sim {
+namespace {
+
+TEST(QuinticBasis, PartitionOfUnityAndReproducesLines) {
+  for (double tau : {0.0, 0.3, 0.77, 0.999}) {
+    double b[kQuinticOrder];
+    QuinticBasis(tau, 0, b);
+    double sum = 0.0;
+    double first_moment = 0.0;
+    for (int j = 0; j < kQuinticOrder; ++j) {
+      EXPECT_GE(b[j], 0.0);
+      sum += b[j];
+      first_moment += b[j] * j;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-15);
+    // Control points P_j = j give the line c(tau) = tau + 2.5 (the basis is centred).
+    EXPECT_NEAR(first_moment, tau + 2.5, 1e-14);
+  }
+}
+
+TEST(QuinticBasis, FourDerivativesContinuousAcrossKnots) {
+  // Basis j at the end of a segment equals basis j + 1 at the start of the next one.
+  for (int r = 0; r <= 4; ++r) {
+    double end[kQuinticOrder];
+    double start[kQuinticOrder];
+    QuinticBasis(1.0, r, end);
+    QuinticBasis(0.0, r, start);
+    EXPECT_NEAR(end[0], 0.0, 1e-12) << "derivative " << r;
+    for (int j = 1; j < kQuinticOrder; ++j) EXPECT_NEAR(end[j], start[j - 1], 1e-12) << r;
+    EXPECT_NEAR(start[kQuinticOrder - 1], 0.0, 1e-12) << "derivative " << r;
+  }
+}
+
+TEST(QuinticBasis, DerivativesMatchNumericDifferences) {
+  const double tau = 0.41;
+  const double e = 1e-6;
+  for (int r = 0; r < 5; ++r) {
+    double b[kQuinticOrder];
+    double b0[kQuinticOrder];
+    double b1[kQuinticOrder];
+    QuinticBasis(tau, r + 1, b);
+    QuinticBasis(tau - e, r, b0);
+    QuinticBasis(tau + e, r, b1);
+    for (int j = 0; j < kQuinticOrder; ++j) EXPECT_NEAR(b[j], (b1[j] - b0[j]) / (2 * e), 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace statebench::sim
