@@ -68,7 +68,8 @@ NoiseFit FitWhiteNoiseAndRandomWalk(const std::vector<AllanPoint>& curve, double
 std::vector<int> LogSpacedClusterSizes(int max_size, int per_decade) {
   std::vector<int> sizes;
   for (int i = 0;; ++i) {
-    const int m = static_cast<int>(std::lround(std::pow(10.0, static_cast<double>(i) / per_decade)));
+    const int m =
+        static_cast<int>(std::lround(std::pow(10.0, static_cast<double>(i) / per_decade)));
     if (m > max_size) break;
     if (sizes.empty() || m > sizes.back()) sizes.push_back(m);
   }

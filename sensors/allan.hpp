@@ -1,7 +1,8 @@
 // Overlapping Allan deviation (IEEE Std 952) of a rate signal sampled at period dt:
 //
-//   theta_k = dt * sum_{i<k} y_i   (integrated signal),   tau = m dt,
-//   sigma^2(tau) = 1 / (2 tau^2 (N - 2m)) * sum_{k=0}^{N-2m-1} (theta_{k+2m} - 2 theta_{k+m} + theta_k)^2
+//   theta_k = dt * sum_{i<k} y_i,  k = 0..N   (integrated signal of N samples),  tau = m dt,
+//   sigma^2(tau) = sum_{k=0}^{N-2m} (theta_{k+2m} - 2 theta_{k+m} + theta_k)^2
+//                  / (2 tau^2 (N + 1 - 2m))
 //
 // For white noise of density N (unit/sqrt(Hz)) sigma(tau) = N / sqrt(tau), so sigma(1 s) = N;
 // for a bias random walk of density K, sigma(tau) = K sqrt(tau / 3), so the +1/2 slope line

@@ -4,10 +4,9 @@
 
 namespace statebench::sensors {
 
-std::optional<DualAntennaHeading> ComputeDualAntennaHeading(const DualAntennaHeadingOptions& options,
-                                                            const GnssFix& main,
-                                                            const GnssFix& aux,
-                                                            const LocalEnuFrame& frame) {
+std::optional<DualAntennaHeading> ComputeDualAntennaHeading(
+    const DualAntennaHeadingOptions& options, const GnssFix& main, const GnssFix& aux,
+    const LocalEnuFrame& frame) {
   if (main.header.stamp_ns != aux.header.stamp_ns) return std::nullopt;
   if (static_cast<int>(main.status) < static_cast<int>(options.min_status) ||
       static_cast<int>(aux.status) < static_cast<int>(options.min_status)) {
@@ -24,8 +23,8 @@ std::optional<DualAntennaHeading> ComputeDualAntennaHeading(const DualAntennaHea
   // to b; d(elevation)/db = w / |b| with w the unit vector normal to b in its vertical plane.
   const Mat3 cov = main.covariance_enu + aux.covariance_enu;
   const Vec3 u_perp(-b.y() / horizontal, b.x() / horizontal, 0.0);
-  const Vec3 w = (Vec3(-b.z() * b.x() / horizontal, -b.z() * b.y() / horizontal, horizontal)) /
-                 length;
+  const Vec3 w =
+      (Vec3(-b.z() * b.x() / horizontal, -b.z() * b.y() / horizontal, horizontal)) / length;
 
   DualAntennaHeading h;
   h.header.sensor_id = options.id;

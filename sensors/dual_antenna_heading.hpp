@@ -27,9 +27,8 @@ struct DualAntennaHeadingOptions {
   GnssFixStatus min_status = GnssFixStatus::kRtkFixed;
 };
 
-std::optional<DualAntennaHeading> ComputeDualAntennaHeading(const DualAntennaHeadingOptions& options,
-                                                            const GnssFix& main,
-                                                            const GnssFix& aux,
-                                                            const LocalEnuFrame& frame);
+std::optional<DualAntennaHeading> ComputeDualAntennaHeading(
+    const DualAntennaHeadingOptions& options, const GnssFix& main, const GnssFix& aux,
+    const LocalEnuFrame& frame);
 
 }  // namespace statebench::sensors

@@ -24,7 +24,8 @@ WheelEncoderModel::WheelEncoderModel(const SensorSpec& spec, const WheelEncoderO
 
 std::array<double, 4> WheelEncoderModel::ActualOmega(const TruthSample& truth) const {
   std::array<double, 4> omega{};
-  for (int i = 0; i < 4; ++i) omega[i] = truth.wheel_omega_radps[i] / (1.0 + options_.radius_error[i]);
+  for (int i = 0; i < 4; ++i)
+    omega[i] = truth.wheel_omega_radps[i] / (1.0 + options_.radius_error[i]);
   return omega;
 }
 
@@ -45,7 +46,8 @@ void WheelEncoderModel::Observe(const TruthSample& truth, std::vector<Measuremen
     const double tick = 2.0 * std::numbers::pi / options_.ticks_per_rev;
     WheelSpeeds m;
     m.header = MakeHeader(truth.t_ns);
-    for (int i = 0; i < 4; ++i) m.omega_radps[i] = static_cast<double>(ticks[i]) * tick / interval_s;
+    for (int i = 0; i < 4; ++i)
+      m.omega_radps[i] = static_cast<double>(ticks[i]) * tick / interval_s;
     out->push_back(m);
   }
   last_sample_ns_ = truth.t_ns;

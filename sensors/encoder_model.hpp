@@ -21,7 +21,8 @@ namespace statebench::sensors {
 class TickCounter {
  public:
   TickCounter() = default;
-  TickCounter(double tick_size, double initial_phase) : tick_size_(tick_size), value_(initial_phase) {}
+  TickCounter(double tick_size, double initial_phase)
+      : tick_size_(tick_size), value_(initial_phase) {}
 
   // Trapezoidal integration of a rate between two truth samples.
   void Integrate(double rate_prev, double rate_now, double dt_s) {

@@ -4,8 +4,7 @@
 
 namespace statebench::sensors {
 
-GaussMarkov3::GaussMarkov3(double sigma, double tau_s, std::mt19937_64& rng,
-                           NormalSampler& normal)
+GaussMarkov3::GaussMarkov3(double sigma, double tau_s, std::mt19937_64& rng, NormalSampler& normal)
     : sigma_(sigma), tau_s_(tau_s) {
   for (int i = 0; i < 3; ++i) x_[i] = sigma_ * normal(rng);
 }

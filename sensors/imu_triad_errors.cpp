@@ -30,8 +30,8 @@ ImuTriadErrors::ImuTriadErrors(const ImuTriadOptions& options, double dt_s, std:
       lower.x(), 1.0 + scale.y(), upper.z(),              //
       lower.y(), lower.z(), 1.0 + scale.z();
   if (options.gauss_markov_sigma > 0.0) {
-    gauss_markov_ = GaussMarkov3(options.gauss_markov_sigma, options.gauss_markov_tau_s, gm_.rng,
-                                 gm_.normal);
+    gauss_markov_ =
+        GaussMarkov3(options.gauss_markov_sigma, options.gauss_markov_tau_s, gm_.rng, gm_.normal);
   }
 }
 

@@ -72,8 +72,9 @@ GnssAccuracy ParseAccuracy(const YamlNode& node) {
 
 GnssMode ParseMode(const YamlNode& node) {
   const auto mode = ParseGnssMode(node.As<std::string>());
-  if (!mode) node.Fail("unknown mode '" + node.As<std::string>() +
-                       "' (expected one of: rtk_fixed, rtk_float, single)");
+  if (!mode)
+    node.Fail("unknown mode '" + node.As<std::string>() +
+              "' (expected one of: rtk_fixed, rtk_float, single)");
   return *mode;
 }
 
@@ -85,7 +86,8 @@ std::vector<GnssOutage> ParseOutages(const YamlNode& node) {
     o.ExpectOnlyKeys({"start_s", "end_s"});
     GnssOutage outage;
     outage.start_s = o.Get<double>("start_s");
-    outage.end_s = o.Has("end_s") ? o.Get<double>("end_s") : std::numeric_limits<double>::infinity();
+    outage.end_s =
+        o.Has("end_s") ? o.Get<double>("end_s") : std::numeric_limits<double>::infinity();
     if (!(outage.end_s > outage.start_s)) o["end_s"].Fail("must be after start_s");
     outages.push_back(outage);
   }
@@ -119,8 +121,9 @@ ImuOptions ParseImuOptions(const YamlNode& entry) {
   if (has_preset) {
     const YamlNode p = entry["preset"];
     const auto grade = ParseImuGrade(p.As<std::string>());
-    if (!grade) p.Fail("unknown preset '" + p.As<std::string>() +
-                       "' (expected one of: consumer, industrial, tactical)");
+    if (!grade)
+      p.Fail("unknown preset '" + p.As<std::string>() +
+             "' (expected one of: consumer, industrial, tactical)");
     o = ImuPreset(*grade);
   }
   // Without a preset the gyro and accel blocks with their noise terms are required.
@@ -132,9 +135,8 @@ ImuOptions ParseImuOptions(const YamlNode& entry) {
 }
 
 GnssOptions ParseGnssOptions(const YamlNode& entry) {
-  ExpectEntryKeys(entry, {"mode", "cep_m", "vertical_sigma_m",
-                        "gauss_markov", "covariance_scale", "outages", "multipath",
-                        "degraded_accuracy", "min_satellites"});
+  ExpectEntryKeys(entry, {"mode", "cep_m", "vertical_sigma_m", "gauss_markov", "covariance_scale",
+                          "outages", "multipath", "degraded_accuracy", "min_satellites"});
   GnssOptions o;
   if (const auto degraded = entry.Find("degraded_accuracy")) {
     degraded->ExpectOnlyKeys({"rtk_fixed", "rtk_float", "single"});
@@ -207,17 +209,19 @@ SteeringEncoderOptions ParseSteeringEncoderOptions(const YamlNode& entry) {
 }
 
 LidarOptions ParseLidarOptions(const YamlNode& entry) {
-  ExpectEntryKeys(entry, {"model", "min_range_m", "max_range_m",
-                        "range_noise_sigma_m", "dropout_probability"});
+  ExpectEntryKeys(
+      entry, {"model", "min_range_m", "max_range_m", "range_noise_sigma_m", "dropout_probability"});
   const YamlNode m = entry["model"];
   const auto model = ParseLidarModel(m.As<std::string>());
-  if (!model) m.Fail("unknown lidar model '" + m.As<std::string>() +
-                     "' (expected one of: hesai_xt32, velodyne_vlp16)");
+  if (!model)
+    m.Fail("unknown lidar model '" + m.As<std::string>() +
+           "' (expected one of: hesai_xt32, velodyne_vlp16)");
   LidarOptions o = DefaultLidarOptions(*model);
   ReadOptional(entry, "min_range_m", &o.min_range_m, NonNegative);
   ReadOptional(entry, "max_range_m", &o.max_range_m, Positive);
   ReadOptional(entry, "range_noise_sigma_m", &o.range_noise_sigma_m, NonNegative);
-  if (const auto p = entry.Find("dropout_probability")) o.dropout_probability = InRange(*p, 0.0, 1.0);
+  if (const auto p = entry.Find("dropout_probability"))
+    o.dropout_probability = InRange(*p, 0.0, 1.0);
   if (!(o.max_range_m > o.min_range_m)) {
     (entry.Has("max_range_m") ? entry["max_range_m"] : entry).Fail("must exceed min_range_m");
   }

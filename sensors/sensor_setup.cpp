@@ -51,7 +51,8 @@ SensorSpec ParseSpec(const YamlNode& entry, SensorType type) {
   const RateRange range = kRateRanges[static_cast<int>(type)];
   spec.rate_hz = InRange(rate, range.lo, range.hi);
   if (!RateDividesTruthRate(spec.rate_hz)) {
-    rate.Fail(Num(spec.rate_hz) + " Hz does not divide the 1000 Hz truth rate (1/rate must be a "
+    rate.Fail(Num(spec.rate_hz) +
+              " Hz does not divide the 1000 Hz truth rate (1/rate must be a "
               "whole number of milliseconds)");
   }
   spec.T_body_sensor = ParseTransform(entry["T_body_sensor"]);

@@ -83,8 +83,8 @@ void SensorSuite::Push(const TruthSample& truth, std::vector<Measurement>* ready
 
   // Anything observed later (at t' > t) arrives at or after t' + min_delay > t + min_delay.
   const TimeNs release_ns = min_delay_ns_ > std::numeric_limits<TimeNs>::max() - truth.t_ns
-                               ? std::numeric_limits<TimeNs>::max()
-                               : truth.t_ns + min_delay_ns_;
+                                ? std::numeric_limits<TimeNs>::max()
+                                : truth.t_ns + min_delay_ns_;
   while (!queue_.empty() && HeaderOf(queue_.Top()).arrival_ns <= release_ns) {
     ready->push_back(queue_.Pop());
   }

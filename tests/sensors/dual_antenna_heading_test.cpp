@@ -45,8 +45,8 @@ TEST(DualAntennaHeading, NoiseFreeBaselineGivesBodyYawAndPitch) {
   const LocalEnuFrame frame(kOrigin);
   GnssReceiver rear(p.rear, exact, frame, 1), front(p.front, exact, frame, 1);
   const TruthSample truth = PitchedTruth(0, 0.05, 2.5);
-  const auto h = ComputeDualAntennaHeading(p.options, *rear.Sample(truth), *front.Sample(truth),
-                                           frame);
+  const auto h =
+      ComputeDualAntennaHeading(p.options, *rear.Sample(truth), *front.Sample(truth), frame);
   ASSERT_TRUE(h);
   const Vec3 rpy = so3::ToRollPitchYaw(truth.body.T_world_frame.rotation());
   EXPECT_NEAR(h->yaw_rad, rpy.z(), 1e-8);
@@ -66,8 +66,8 @@ TEST(DualAntennaHeading, ReportedSigmasMatchTheErrors) {
   const int n = 5000;
   for (int k = 0; k < n; ++k) {
     const TruthSample truth = PitchedTruth(k * 100 * kNsPerMillisecond, -0.03, -1.0);
-    const auto h = ComputeDualAntennaHeading(p.options, *rear.Sample(truth),
-                                             *front.Sample(truth), frame);
+    const auto h =
+        ComputeDualAntennaHeading(p.options, *rear.Sample(truth), *front.Sample(truth), frame);
     ASSERT_TRUE(h);
     const Vec3 rpy = so3::ToRollPitchYaw(truth.body.T_world_frame.rotation());
     sum_yaw2 += std::pow(so3::WrapAngle(h->yaw_rad - rpy.z()), 2);
@@ -90,8 +90,8 @@ TEST(DualAntennaHeading, NeedsBothFixesAtTheRequiredStatus) {
   float_options.mode = GnssMode::kRtkFloat;
   GnssReceiver rear(p.rear, float_options, frame, 1), front(p.front, GnssOptions{}, frame, 1);
   const TruthSample truth = PitchedTruth(0, 0.0, 0.0);
-  EXPECT_FALSE(ComputeDualAntennaHeading(p.options, *rear.Sample(truth), *front.Sample(truth),
-                                         frame));
+  EXPECT_FALSE(
+      ComputeDualAntennaHeading(p.options, *rear.Sample(truth), *front.Sample(truth), frame));
 }
 
 }  // namespace

@@ -258,7 +258,9 @@ TEST(GnssReceiver, FewerSatellitesDegradeTheFix) {
   const LocalEnuFrame frame(kOrigin);
   GnssReceiver receiver(AntennaSpec(1.0), o, frame, 6);
   receiver.SetSatelliteVisibility(std::make_shared<ScheduledVisibility>());
-  const auto fix_at = [&](int s) { return receiver.Sample(testing::StaticTruth(s * kNsPerSecond)); };
+  const auto fix_at = [&](int s) {
+    return receiver.Sample(testing::StaticTruth(s * kNsPerSecond));
+  };
   EXPECT_EQ(fix_at(0)->status, GnssFixStatus::kRtkFixed);
   const GnssFix degraded = *fix_at(1);
   EXPECT_EQ(degraded.status, GnssFixStatus::kRtkFloat);

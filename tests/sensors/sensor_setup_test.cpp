@@ -137,13 +137,15 @@ TEST(SensorSetup, OtherMistakesAreCaughtWithTheirField) {
   EXPECT_NE(msg.find("bad.yaml:12:14: field 'sensors[1].rate_hz'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("does not divide"), std::string::npos) << msg;
   // An unknown mode, a duplicate id, an unknown lidar model, a bad heading pair.
-  msg = ErrorOf(head + "  - {type: gnss, id: g, rate_hz: 10, latency_s: 0, T_body_sensor: {}, "
-                       "mode: dgps}\n");
+  msg = ErrorOf(head +
+                "  - {type: gnss, id: g, rate_hz: 10, latency_s: 0, T_body_sensor: {}, "
+                "mode: dgps}\n");
   EXPECT_NE(msg.find("sensors[1].mode': unknown mode 'dgps'"), std::string::npos) << msg;
   msg = ErrorOf(head + kImuEntry);
   EXPECT_NE(msg.find("sensors[1].id': duplicate sensor id 'imu'"), std::string::npos) << msg;
-  msg = ErrorOf(head + "  - {type: lidar, id: l, rate_hz: 10, latency_s: 0, T_body_sensor: {}, "
-                       "model: ouster}\n");
+  msg = ErrorOf(head +
+                "  - {type: lidar, id: l, rate_hz: 10, latency_s: 0, T_body_sensor: {}, "
+                "model: ouster}\n");
   EXPECT_NE(msg.find("sensors[1].model': unknown lidar model 'ouster'"), std::string::npos) << msg;
   msg = ErrorOf(head + "dual_antenna_headings:\n  - {id: h, main: imu, aux: nothing}\n");
   EXPECT_NE(msg.find("dual_antenna_headings[0].main': no gnss sensor with id 'imu'"),

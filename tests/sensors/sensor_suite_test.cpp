@@ -132,7 +132,7 @@ TEST(SensorSuite, SameSeedSameBitsDifferentSeedDifferentBits) {
   EXPECT_EQ(differing["gnss_front"], 21);
   EXPECT_EQ(differing["gnss_heading"], 21);
   EXPECT_GT(differing["steering"], 0);  // 0.5 mrad noise, mostly hidden by 1.75 mrad steps
-  EXPECT_GT(differing["wheels"], 0);  // random tick phase
+  EXPECT_GT(differing["wheels"], 0);    // random tick phase
 }
 
 TEST(SensorSuite, SimulatedSourceYieldsTheSameStreamAsPush) {

@@ -32,8 +32,8 @@ struct Circle {
     const Vec3 tangent(-std::sin(theta), std::cos(theta), 0.0);
     TruthSample s;
     s.t_ns = t_ns;
-    s.body.T_world_frame =
-        SE3(so3::FromRollPitchYaw(0.0, 0.0, theta + std::numbers::pi / 2), centre + radius_m * radial);
+    s.body.T_world_frame = SE3(so3::FromRollPitchYaw(0.0, 0.0, theta + std::numbers::pi / 2),
+                               centre + radius_m * radial);
     s.body.v_world = speed_mps * tangent;
     s.body.a_world = -speed_mps * w * radial;
     s.body.omega_frame = Vec3(0.0, 0.0, w);
