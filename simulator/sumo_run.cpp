@@ -73,25 +73,24 @@ bool Contains(const std::vector<std::string>& ids, const std::string& id) {
   return std::find(ids.begin(), ids.end(), id) != ids.end();
 }
 
-std::vector<std::string> SumoArguments(const Scenario& scenario, const BuiltNetwork& built) {
-  return {"--net-file",
-          built.net_file.string(),
-          "--route-files",
-          built.routes_file.string(),
-          "--step-length",
-          FormatNumber(scenario.sumo.step_s),
-          "--step-method.ballistic",
-          "true",
-          "--seed",
-          std::to_string(SumoSeed(scenario.seed, "sumo")),
-          "--no-step-log",
-          "true",
-          "--xml-validation",
-          "never",
-          "--log",
-          (built.work_dir / "sumo.log").string(),
-          "--collision.action",
-          "warn"};
+std::vector<std::string> SumoArguments(const Scenario& scenario, const BuiltNetwork& built,
+                                       const SumoRunOptions& options) {
+  std::vector<std::string> args;
+  const auto add = [&](const std::string& key, const std::string& value) {
+    args.push_back(key);
+    args.push_back(value);
+  };
+  add("--net-file", built.net_file.string());
+  add("--route-files", built.routes_file.string());
+  add("--step-length", FormatNumber(scenario.sumo.step_s));
+  add("--step-method.ballistic", "true");
+  add("--seed", std::to_string(SumoSeed(scenario.seed, "sumo")));
+  add("--no-step-log", "true");
+  add("--no-warnings", options.sumo_warnings ? "false" : "true");
+  add("--xml-validation", "never");
+  add("--log", (built.work_dir / "sumo.log").string());
+  add("--collision.action", "warn");
+  return args;
 }
 
 void ReadNetworkGeometry(SumoResult* result) {
@@ -243,9 +242,10 @@ class Recorder {
   std::unordered_map<std::string, std::vector<std::string>> successors_;
 };
 
-void LoadOrFail(const Scenario& scenario, const BuiltNetwork& built) {
+void LoadOrFail(const Scenario& scenario, const BuiltNetwork& built,
+                const SumoRunOptions& options) {
   try {
-    Simulation::load(SumoArguments(scenario, built));
+    Simulation::load(SumoArguments(scenario, built, options));
   } catch (const std::exception& e) {
     throw InputError(scenario.file.string() + ": SUMO could not load " + built.net_file.string() +
                      " with " + built.routes_file.string() + ": " + e.what());
@@ -259,7 +259,7 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
   std::lock_guard<std::mutex> lock(SumoMutex());
   const StreamFormatGuard cout_guard(std::cout);
   const StreamFormatGuard cerr_guard(std::cerr);
-  LoadOrFail(scenario, built);
+  LoadOrFail(scenario, built, options);
   SessionCloser closer;
 
   SumoResult result;

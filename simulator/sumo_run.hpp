@@ -24,6 +24,9 @@ struct SumoRunOptions {
   double lookahead_m = 50.0;   // driven path beyond the last sample, unless the route ends
   double max_tail_s = 60.0;    // at most this much extra SUMO time to get it
   bool record_traffic = true;  // false: SumoResult::traffic stays empty
+  // SUMO's warnings (emergency braking, teleports, ...) go to <work_dir>/sumo.log and stderr
+  // when true; when false (library default: nothing printed) they are dropped.
+  bool sumo_warnings = false;
 };
 
 // Throws InputError when SUMO rejects the files or the ego cannot drive its route (it could not
