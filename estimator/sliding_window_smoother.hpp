@@ -1,0 +1,104 @@
+// Fixed-lag smoother: a window of navigation states linked by preintegrated IMU factors and bias
+// random walks, with GNSS and dual-antenna factors at their own stamps, solved with Ceres
+// (sparse normal Cholesky; rotations on RightQuaternionManifold). States older than the window
+// are marginalised by Schur complement into a MarginalizationPrior on the oldest kept state, so
+// their information is kept (linearised at the estimate when they leave).
+//
+// States: one at every imu_samples_per_state-th IMU sample (1 = every sample, as in the paper).
+// Usage: AddImu(sample at t0); Initialize(state at t0, covariance); then feed IMU samples and
+// measurements in arrival order and call Solve() whenever an update is wanted.
+//
+// Measurements are attached to the latest state at or before their stamp, propagated to the
+// stamp with the IMU (GnssPropagatedPositionFactor, DualAntennaFactor with the rotation delta):
+// a late measurement still inside the window lands where in-order arrival would put it. One
+// newer than the newest IMU sample waits until the IMU reaches its stamp; one older than the
+// oldest state is refused.
+//
+// The newest state's 15x15 covariance (core/state.hpp ordering) is the marginal of the window's
+// linearised system, computed by eliminating the states oldest first (block-tridiagonal, O(N)).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/eigen_types.hpp"
+#include "core/measurements.hpp"
+#include "core/state.hpp"
+#include "estimator/gnss_enu.hpp"
+#include "estimator/imu_noise.hpp"
+#include "estimator/robust_kernel.hpp"
+
+namespace statebench::est {
+
+struct SlidingWindowOptions {
+  double window_s = 1.0;           // states older than newest - window_s are marginalised
+  int imu_samples_per_state = 1;   // 1: a state per IMU sample; N: keyframes every N samples
+  ImuNoise imu_noise;
+  RobustKernel gnss_kernel;        // on GNSS position factors
+  RobustKernel heading_kernel;     // on dual-antenna factors
+  int max_iterations = 10;
+  int num_threads = 1;
+
+  bool IsValid(std::string* why = nullptr) const;
+};
+
+enum class AddResult { kAdded, kPending, kTooOld };
+
+struct SmootherSolveSummary {
+  bool usable = false;  // Ceres returned a usable solution
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  int num_states = 0;
+  int num_marginalized = 0;  // states that left the window in this call
+  int num_imu_factors = 0;
+  int num_gnss_factors = 0;
+  int num_heading_factors = 0;
+  int num_dropped_pending = 0;  // waiting measurements the window passed before the IMU came
+};
+
+class SlidingWindowSmoother {
+ public:
+  // Throws InputError if the options are not valid.
+  explicit SlidingWindowSmoother(const SlidingWindowOptions& options);
+  ~SlidingWindowSmoother();
+  SlidingWindowSmoother(const SlidingWindowSmoother&) = delete;
+  SlidingWindowSmoother& operator=(const SlidingWindowSmoother&) = delete;
+
+  // Raw IMU sample. InputError (and nothing changes) on a non-finite value or a stamp that does
+  // not increase.
+  void AddImu(const ImuSample& sample);
+
+  // First state, at the stamp of the last IMU sample added, with its prior covariance.
+  // InputError if no IMU sample has that stamp or the covariance is not positive definite.
+  void Initialize(const NavState& state, const Mat15& covariance);
+  bool initialized() const;
+
+  // GNSS antenna fix (ENU) with the antenna's position in the IMU frame. InputError if the
+  // covariance is not positive definite or before Initialize.
+  AddResult AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
+  // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
+  // measurement DualAntennaFactor refuses.
+  AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,
+                           const Vec3& p_imu_aux);
+
+  // Optimises the window, then marginalises the states that left it.
+  SmootherSolveSummary Solve();
+
+  NavState NewestState() const;
+  // Newest state propagated with the IMU to the newest sample (equal to NewestState() when a
+  // state sits on every sample).
+  NavState PredictToNewestImu() const;
+  // Marginal covariance of the newest state, core/state.hpp ordering.
+  Mat15 NewestCovariance() const;
+  std::vector<NavState> WindowStates() const;
+  // States that left the window since the last call, oldest first, as last estimated.
+  std::vector<NavState> TakeMarginalizedStates();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace statebench::est
