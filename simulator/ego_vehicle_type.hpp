@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "simulator/vehicle_params.hpp"
+
 namespace statebench::sim {
 
 struct EgoVehicleType {
@@ -31,5 +33,9 @@ struct EgoVehicleType {
     return true;
   }
 };
+
+// The vType of a vehicle file: its body box, speed and acceleration limits; comfortable
+// braking = its service-brake deceleration, emergency braking = mu * g (tyre limit).
+EgoVehicleType EgoVehicleTypeFor(const VehicleParams& vehicle);
 
 }  // namespace statebench::sim

@@ -222,6 +222,26 @@ TEST(NetworkBuilder, NetconvertKeepsTheXmlCoordinates) {
   EXPECT_EQ(built.ego_route.size(), 12u);
 }
 
+TEST(EgoVehicleType, ComesFromTheVehicleFiles) {
+  for (const char* name : {"quadricycle", "shuttle"}) {
+    const VehicleParams vehicle =
+        LoadVehicleParamsFile(std::string("scenarios/vehicles/") + name + ".yaml");
+    const EgoVehicleType type = EgoVehicleTypeFor(vehicle);
+    std::string why;
+    EXPECT_TRUE(type.IsValid(&why)) << name << ": " << why;
+    EXPECT_EQ(type.length_m, vehicle.body.length_m);
+    EXPECT_EQ(type.height_m, vehicle.body.height_m);
+    EXPECT_EQ(type.max_speed_mps, vehicle.max_speed_mps);
+    EXPECT_EQ(type.max_decel_mps2, vehicle.max_deceleration_mps2);
+    EXPECT_GT(type.emergency_decel_mps2, type.max_decel_mps2);
+  }
+  EgoVehicleType bad;
+  bad.width_m = 0.0;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("dimensions"), std::string::npos);
+}
+
 TEST(TrafficDemand, FlowTripsAreSeededPoissonArrivals) {
   TrafficSpec traffic;
   FlowSpec flow;
