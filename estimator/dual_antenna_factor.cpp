@@ -21,7 +21,8 @@ DualAntennaFactor::DualAntennaFactor(const DualAntennaHeading& m, const Vec3& p_
   }
   if (!baseline_imu_.allFinite() || baseline_imu_.norm() < 0.01 ||
       baseline_imu_.head<2>().norm() < 1e-3 * baseline_imu_.norm()) {
-    throw InputError(where + "baseline between the antennas must be at least 1 cm and not vertical");
+    throw InputError(where +
+                     "baseline between the antennas must be at least 1 cm and not vertical");
   }
 }
 

@@ -40,8 +40,8 @@ class DualAntennaFactor {
     const T horizontal = sqrt(b.x() * b.x() + b.y() * b.y());
     const T yaw_error = atan2(b.y(), b.x()) - T(yaw_rad_);
     residuals[0] = atan2(sin(yaw_error), cos(yaw_error)) / T(yaw_sigma_rad_);
-    residuals[1] = use_pitch_ ? (atan2(-b.z(), horizontal) - T(pitch_rad_)) / T(pitch_sigma_rad_)
-                              : T(0);
+    residuals[1] =
+        use_pitch_ ? (atan2(-b.z(), horizontal) - T(pitch_rad_)) / T(pitch_sigma_rad_) : T(0);
     return true;
   }
 

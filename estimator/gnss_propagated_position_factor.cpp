@@ -56,8 +56,7 @@ bool GnssPropagatedPositionFactor::Evaluate(double const* const* parameters, dou
   using RowMajor3x4 = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
   using RowMajor3x6 = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
   if (jacobians[0] != nullptr) {
-    Eigen::Map<RowMajor3x4>{jacobians[0]} = -sqrt_information_ * R_i *
-                                            so3::Hat<double>(lever_i) *
+    Eigen::Map<RowMajor3x4>{jacobians[0]} = -sqrt_information_ * R_i * so3::Hat<double>(lever_i) *
                                             QuaternionMinusJacobian(parameters[0]);
   }
   if (jacobians[1] != nullptr) Eigen::Map<RowMajor3x3>{jacobians[1]} = sqrt_information_;

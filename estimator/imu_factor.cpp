@@ -27,7 +27,7 @@ ImuFactor::ImuFactor(ImuPreintegration preintegration)
 Vec9 ImuFactor::Residual(const NavState& si, const NavState& sj) const {
   const StateParameters pi = StateParameters::FromNavState(si);
   const StateParameters pj = StateParameters::FromNavState(sj);
-  const double* params[] = {pi.q_world_imu.data(), pi.p_world.data(), pi.v_world.data(),
+  const double* params[] = {pi.q_world_imu.data(), pi.p_world.data(),     pi.v_world.data(),
                             pi.bias.data(),        pj.q_world_imu.data(), pj.p_world.data(),
                             pj.v_world.data()};
   Vec9 whitened;
@@ -70,8 +70,7 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   const Mat3 Jr_inv = so3::RightJacobianInverse(r_R);
   if (jacobians[0] != nullptr) {  // q_i
     RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintRotation, 0) =
-        -Jr_inv * (q_j.conjugate() * q_i).toRotationMatrix();
+    J.block<3, 3>(kPreintRotation, 0) = -Jr_inv * (q_j.conjugate() * q_i).toRotationMatrix();
     J.block<3, 3>(kPreintVelocity, 0) = so3::Hat<double>(v_rel);
     J.block<3, 3>(kPreintPosition, 0) = so3::Hat<double>(p_rel);
     Eigen::Map<RowMajor9x4>{jacobians[0]} =
@@ -90,8 +89,8 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   }
   if (jacobians[3] != nullptr) {  // bias_i
     RowMajor9x6 J = RowMajor9x6::Zero();
-    J.block<3, 3>(kPreintRotation, 0) = -Jr_inv * so3::ExpMatrix<double>(-r_R) *
-                                        so3::RightJacobian(phi_bg) * pim.d_R_d_bg();
+    J.block<3, 3>(kPreintRotation, 0) =
+        -Jr_inv * so3::ExpMatrix<double>(-r_R) * so3::RightJacobian(phi_bg) * pim.d_R_d_bg();
     J.block<3, 3>(kPreintVelocity, 0) = -pim.d_v_d_bg();
     J.block<3, 3>(kPreintVelocity, 3) = -pim.d_v_d_ba();
     J.block<3, 3>(kPreintPosition, 0) = -pim.d_p_d_bg();

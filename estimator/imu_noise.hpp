@@ -12,10 +12,10 @@
 namespace statebench::est {
 
 struct ImuNoise {
-  double gyro_noise_density = 1.7e-4;    // rad/s/sqrt(Hz)
-  double accel_noise_density = 2.0e-3;   // m/s^2/sqrt(Hz)
-  double gyro_random_walk = 1.9e-5;      // rad/s^2/sqrt(Hz)
-  double accel_random_walk = 3.0e-3;     // m/s^3/sqrt(Hz)
+  double gyro_noise_density = 1.7e-4;   // rad/s/sqrt(Hz)
+  double accel_noise_density = 2.0e-3;  // m/s^2/sqrt(Hz)
+  double gyro_random_walk = 1.9e-5;     // rad/s^2/sqrt(Hz)
+  double accel_random_walk = 3.0e-3;    // m/s^3/sqrt(Hz)
   // Not a sensor property: a position random walk (m/sqrt(s)) standing for the discretisation
   // error of position integration. With one sample per interval, position and velocity
   // deltas are driven by the same accelerometer noise and their 9x9 covariance is singular;

@@ -40,9 +40,9 @@ ImuPreintegration ImuPreintegration::FromSamples(std::span<const ImuSample> samp
   std::size_t k = 0;
   while (k + 1 < samples.size() && samples[k + 1].header.stamp_ns <= t_begin_ns) ++k;
   const auto stamp = [&](std::size_t n) { return samples[n].header.stamp_ns; };
-  pim.Integrate(stamp(k) == t_begin_ns ? samples[k]
-                                       : InterpolateImuSample(samples[k], samples[k + 1],
-                                                              t_begin_ns));
+  pim.Integrate(stamp(k) == t_begin_ns
+                    ? samples[k]
+                    : InterpolateImuSample(samples[k], samples[k + 1], t_begin_ns));
   for (++k; k < samples.size() && stamp(k) < t_end_ns; ++k) pim.Integrate(samples[k]);
   if (t_end_ns > t_begin_ns) {
     pim.Integrate(stamp(k) == t_end_ns
@@ -127,9 +127,7 @@ ImuPreintegration ImuPreintegration::Reintegrated(const ImuBias& bias_lin) const
   return out;
 }
 
-TimeNs ImuPreintegration::start_ns() const {
-  return samples_.empty() ? 0 : samples_.front().t_ns;
-}
+TimeNs ImuPreintegration::start_ns() const { return samples_.empty() ? 0 : samples_.front().t_ns; }
 
 TimeNs ImuPreintegration::end_ns() const { return samples_.empty() ? 0 : samples_.back().t_ns; }
 

@@ -59,8 +59,8 @@ bool Linearize(const std::vector<const FactorRecord*>& factors, const BlockLayou
 
 LinearSystem SchurComplement(const LinearSystem& system, int m) {
   const int k = static_cast<int>(system.g.size()) - m;
-  const Eigen::MatrixXd H_mm = 0.5 * (system.H.topLeftCorner(m, m) +
-                                      system.H.topLeftCorner(m, m).transpose());
+  const Eigen::MatrixXd H_mm =
+      0.5 * (system.H.topLeftCorner(m, m) + system.H.topLeftCorner(m, m).transpose());
   const Eigen::MatrixXd H_km = system.H.bottomLeftCorner(k, m);
   // X = H_mm^-1 [H_mk, g_m]: Cholesky when H_mm is well conditioned, else the eigen pseudo-inverse.
   Eigen::MatrixXd rhs(m, k + 1);

@@ -16,10 +16,9 @@
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 
+#include <Eigen/Core>
 #include <unordered_map>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace statebench::est {
 

@@ -30,7 +30,7 @@ MarginalizationPrior* MarginalizationPrior::FromCovariance(const NavState& mean,
                                                            const Mat15& covariance) {
   const Mat15 S = SqrtInformation<15>(covariance, "state prior");
   return new MarginalizationPrior(StateParameters::FromNavState(mean), S.transpose() * S,
-                                 Vec15::Zero());
+                                  Vec15::Zero());
 }
 
 Vec15 MarginalizationPrior::Delta(double const* const* parameters) const {
@@ -57,8 +57,8 @@ bool MarginalizationPrior::Evaluate(double const* const* parameters, double* res
   using RowMajor15x6 = Eigen::Matrix<double, 15, 6, Eigen::RowMajor>;
   if (jacobians[0] != nullptr) {
     const Mat3 jr_inv = so3::RightJacobianInverse(dx.segment<3>(kRotationIndex));
-    Eigen::Map<RowMajor15x4>{jacobians[0]} = J_.middleCols<3>(kRotationIndex) * jr_inv *
-                                             QuaternionMinusJacobian(parameters[0]);
+    Eigen::Map<RowMajor15x4>{jacobians[0]} =
+        J_.middleCols<3>(kRotationIndex) * jr_inv * QuaternionMinusJacobian(parameters[0]);
   }
   if (jacobians[1] != nullptr) {
     Eigen::Map<RowMajor15x3>{jacobians[1]} = J_.middleCols<3>(kPositionIndex);

@@ -143,9 +143,9 @@ struct SlidingWindowSmoother::Impl {
   }
 
   void AttachGnss(Node& anchor, const PendingGnss& m) {
-    auto* cost = new GnssPropagatedPositionFactor(
-        m.fix.p_enu, m.fix.covariance, m.p_imu_antenna, Preintegrate(anchor, m.fix.header.stamp_ns),
-        anchor.State().q_world_imu);
+    auto* cost = new GnssPropagatedPositionFactor(m.fix.p_enu, m.fix.covariance, m.p_imu_antenna,
+                                                  Preintegrate(anchor, m.fix.header.stamp_ns),
+                                                  anchor.State().q_world_imu);
     AddFactor(anchor, FactorKind::kGnss, cost, options.gnss_kernel.MakeLossFunction().release(),
               {anchor.x.q_world_imu.data(), anchor.x.p_world.data(), anchor.x.v_world.data(),
                anchor.x.bias.data()});

@@ -32,11 +32,11 @@
 namespace statebench::est {
 
 struct SlidingWindowOptions {
-  double window_s = 1.0;           // states older than newest - window_s are marginalised
-  int imu_samples_per_state = 1;   // 1: a state per IMU sample; N: keyframes every N samples
+  double window_s = 1.0;          // states older than newest - window_s are marginalised
+  int imu_samples_per_state = 1;  // 1: a state per IMU sample; N: keyframes every N samples
   ImuNoise imu_noise;
-  RobustKernel gnss_kernel;        // on GNSS position factors
-  RobustKernel heading_kernel;     // on dual-antenna factors
+  RobustKernel gnss_kernel;     // on GNSS position factors
+  RobustKernel heading_kernel;  // on dual-antenna factors
   int max_iterations = 10;
   int num_threads = 1;
 

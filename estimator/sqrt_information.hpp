@@ -2,9 +2,8 @@
 // squared Mahalanobis distance of r. With Cov = L L^T (Cholesky), S = L^-1 (lower triangular).
 #pragma once
 
-#include <string>
-
 #include <Eigen/Cholesky>
+#include <string>
 
 #include "core/error.hpp"
 

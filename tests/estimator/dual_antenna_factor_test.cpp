@@ -95,15 +95,16 @@ TEST(DualAntennaFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
   NormalSampler normal;
   double worst = 0.0;
   for (int trial = 0; trial < 20; ++trial) {
-    const Vec3 rpy(0.1 * normal(rng), 0.1 * normal(rng), std::numbers::pi * (2 * Uniform01(rng) - 1));
+    const Vec3 rpy(0.1 * normal(rng), 0.1 * normal(rng),
+                   std::numbers::pi * (2 * Uniform01(rng) - 1));
     const Quat q = so3::FromRollPitchYaw(rpy.x(), rpy.y(), rpy.z());
     // Measured a little off the state, including across the wrap.
     const auto m = Measure(q * so3::Exp<double>(0.02 * Vec3(normal(rng), normal(rng), normal(rng))),
                            kRear, kFront + Vec3(0.0, 0.3, 0.1), 0.01);
     const std::unique_ptr<ceres::CostFunction> f(
         DualAntennaFactor::Create(m, kRear, kFront + Vec3(0.0, 0.3, 0.1)));
-    const auto check = testing::CheckJacobians(*f, {{q.coeffs().data(), q.coeffs().data() + 4}},
-                                               {&so3_manifold});
+    const auto check =
+        testing::CheckJacobians(*f, {{q.coeffs().data(), q.coeffs().data() + 4}}, {&so3_manifold});
     worst = std::max(worst, check.worst_relative_error);
   }
   std::printf("dual antenna factor: worst relative Jacobian error %.2e\n", worst);

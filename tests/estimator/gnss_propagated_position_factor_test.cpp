@@ -85,9 +85,8 @@ TEST(GnssPropagatedPositionFactor, PlacesTheFixAtItsOwnStamp) {
   // perpendicular to it on average), the accelerometer adds sa^2 tau^3 / 3 per axis.
   const ImuNoise noise;
   const double tau = ToSeconds(t_fix - t_i);
-  const double expected =
-      2.0 * std::pow(noise.gyro_noise_density, 2) * tau * kLever.squaredNorm() +
-      std::pow(noise.accel_noise_density, 2) * std::pow(tau, 3);
+  const double expected = 2.0 * std::pow(noise.gyro_noise_density, 2) * tau * kLever.squaredNorm() +
+                          std::pow(noise.accel_noise_density, 2) * std::pow(tau, 3);
   std::printf("added covariance trace %.3e m^2, random-walk estimate %.3e m^2\n", added.trace(),
               expected);
   EXPECT_NEAR(added.trace(), expected, 0.15 * expected);
@@ -136,9 +135,9 @@ TEST(GnssPropagatedPositionFactor, JacobiansMatchNumericDifferencesOnTheManifold
       x.v_world += r3();
       x.gyro_bias = 0.01 * r3();
       x.accel_bias = 0.1 * r3();
-      const auto check = testing::CheckJacobians(factor, Blocks(x),
-                                                 {&so3_manifold, nullptr, nullptr, nullptr},
-                                                 1e-6, trial == 0 ? "gnss propagated" : "");
+      const auto check =
+          testing::CheckJacobians(factor, Blocks(x), {&so3_manifold, nullptr, nullptr, nullptr},
+                                  1e-6, trial == 0 ? "gnss propagated" : "");
       worst = std::max(worst, check.worst_relative_error);
     }
   }

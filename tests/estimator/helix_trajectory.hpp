@@ -59,7 +59,9 @@ class HelixTrajectory {
     return Vec3(d.x() - sp * d.z(), cr * d.y() + sr * cp * d.z(), -sr * d.y() + cr * cp * d.z());
   }
   // Specific force in the IMU frame: R^T (a - g).
-  Vec3 Accel(double t) const { return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld); }
+  Vec3 Accel(double t) const {
+    return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld);
+  }
 
   NavState State(TimeNs t_ns) const {
     const double t = ToSeconds(t_ns);

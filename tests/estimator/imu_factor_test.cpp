@@ -132,8 +132,8 @@ TEST(ImuFactor, SolvesForTheNextState) {
                            sj.p_world.data(), sj.v_world.data());
   problem.SetManifold(si.q_world_imu.data(), new RightQuaternionManifold);
   problem.SetManifold(sj.q_world_imu.data(), new RightQuaternionManifold);
-  for (double* block : {si.q_world_imu.data(), si.p_world.data(), si.v_world.data(),
-                        si.bias.data()}) {
+  for (double* block :
+       {si.q_world_imu.data(), si.p_world.data(), si.v_world.data(), si.bias.data()}) {
     problem.SetParameterBlockConstant(block);
   }
   ceres::Solver::Options options;

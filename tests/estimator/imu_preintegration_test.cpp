@@ -72,8 +72,8 @@ TEST(HelixTrajectory, GyroMatchesFiniteDifferenceOfAttitude) {
   const HelixTrajectory helix;
   for (double t : {0.3, 1.7, 4.2}) {
     const double h = 1e-5;
-    const Vec3 w_num = so3::Log<double>(helix.Orientation(t - h).conjugate() *
-                                        helix.Orientation(t + h)) / (2 * h);
+    const Vec3 w_num =
+        so3::Log<double>(helix.Orientation(t - h).conjugate() * helix.Orientation(t + h)) / (2 * h);
     EXPECT_LT((w_num - helix.Gyro(t)).norm(), 1e-8);
     const Vec3 a_num = (helix.Velocity(t + h) - helix.Velocity(t - h)) / (2 * h);
     EXPECT_LT((a_num - helix.Acceleration(t)).norm(), 1e-7);
@@ -149,17 +149,17 @@ TEST(ImuPreintegration, IntervalBetweenSamplesUsesInterpolatedBoundaries) {
   EXPECT_LT((ac.delta_v() - dv).norm(), 1e-7);
   EXPECT_LT((ac.delta_p() - dp).norm(), 1e-8);
 
-  EXPECT_THROW(ImuPreintegration::FromSamples(samples, FromSeconds(0.9), t_b, ImuNoise{},
-                                              ImuBias{}),
-               InputError);
+  EXPECT_THROW(
+      ImuPreintegration::FromSamples(samples, FromSeconds(0.9), t_b, ImuNoise{}, ImuBias{}),
+      InputError);
 }
 
 TEST(ImuPreintegration, BiasJacobiansMatchCentralDifferencesOfReintegration) {
   const auto samples = HelixSamples(3.0, 0.5, 100.0);
   const ImuBias bias_lin{Vec3(0.01, -0.02, 0.005), Vec3(0.1, 0.05, -0.2)};
-  const auto pim = ImuPreintegration::FromSamples(samples, samples.front().header.stamp_ns,
-                                                  samples.back().header.stamp_ns, ImuNoise{},
-                                                  bias_lin);
+  const auto pim =
+      ImuPreintegration::FromSamples(samples, samples.front().header.stamp_ns,
+                                     samples.back().header.stamp_ns, ImuNoise{}, bias_lin);
   Eigen::Matrix<double, 9, 6> J_num;
   const double eps = 1e-6;
   for (int c = 0; c < 6; ++c) {
@@ -169,7 +169,8 @@ TEST(ImuPreintegration, BiasJacobiansMatchCentralDifferencesOfReintegration) {
     const auto minus = pim.Reintegrated(ImuBias::FromVector(bias_lin.AsVector() - db));
     J_num.block<3, 1>(kPreintRotation, c) =
         (so3::Log<double>(pim.delta_q().conjugate() * plus.delta_q()) -
-         so3::Log<double>(pim.delta_q().conjugate() * minus.delta_q())) / (2 * eps);
+         so3::Log<double>(pim.delta_q().conjugate() * minus.delta_q())) /
+        (2 * eps);
     J_num.block<3, 1>(kPreintVelocity, c) = (plus.delta_v() - minus.delta_v()) / (2 * eps);
     J_num.block<3, 1>(kPreintPosition, c) = (plus.delta_p() - minus.delta_p()) / (2 * eps);
   }
@@ -199,13 +200,15 @@ TEST(ImuPreintegration, BiasCorrectionIsFirstOrderAccurate) {
   for (double scale : {1.0, 0.5, 0.25, 0.125}) {
     const ImuBias b = ImuBias::FromVector(scale * direction);
     const auto exact = pim.Reintegrated(b);
-    const double e_rot = so3::Log<double>(exact.delta_q().conjugate() * pim.CorrectedDeltaQ(b)).norm();
+    const double e_rot =
+        so3::Log<double>(exact.delta_q().conjugate() * pim.CorrectedDeltaQ(b)).norm();
     const double e_vel = (exact.delta_v() - pim.CorrectedDeltaV(b)).norm();
     const double e_pos = (exact.delta_p() - pim.CorrectedDeltaP(b)).norm();
     const double uncorrected = (exact.delta_p() - pim.delta_p()).norm();
     const double total = e_rot + e_vel + e_pos;
-    std::printf("bias scale %.3f: corrected err rot %.2e vel %.2e pos %.2e (uncorrected pos %.2e)\n",
-                scale, e_rot, e_vel, e_pos, uncorrected);
+    std::printf(
+        "bias scale %.3f: corrected err rot %.2e vel %.2e pos %.2e (uncorrected pos %.2e)\n", scale,
+        e_rot, e_vel, e_pos, uncorrected);
     EXPECT_LT(e_pos, 0.05 * uncorrected);
     if (previous > 0.0) {
       EXPECT_NEAR(previous / total, 4.0, 0.4);
@@ -238,7 +241,8 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo) {
       noisy.Integrate(s.header.stamp_ns, s.gyro + sg * ng, s.accel + sa * na);
     }
     Vec9 e;
-    e.segment<3>(kPreintRotation) = so3::Log<double>(nominal.delta_q().conjugate() * noisy.delta_q());
+    e.segment<3>(kPreintRotation) =
+        so3::Log<double>(nominal.delta_q().conjugate() * noisy.delta_q());
     e.segment<3>(kPreintVelocity) = noisy.delta_v() - nominal.delta_v();
     e.segment<3>(kPreintPosition) = noisy.delta_p() - nominal.delta_p();
     errors.push_back(e);

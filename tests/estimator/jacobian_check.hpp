@@ -8,12 +8,11 @@
 #include <ceres/cost_function.h>
 #include <ceres/manifold.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace statebench::est::testing {
 
@@ -81,8 +80,8 @@ inline JacobianCheck CheckJacobians(const ceres::CostFunction& cost,
     out.block_max_entry.push_back(numeric[b].cwiseAbs().maxCoeff());
     out.worst_relative_error = std::max(out.worst_relative_error, err);
     if (!label.empty()) {
-      std::printf("%s block %zu: relative Jacobian error %.2e (max entry %.2e)\n", label.c_str(),
-                  b, err, numeric[b].cwiseAbs().maxCoeff());
+      std::printf("%s block %zu: relative Jacobian error %.2e (max entry %.2e)\n", label.c_str(), b,
+                  err, numeric[b].cwiseAbs().maxCoeff());
     }
   }
   return out;

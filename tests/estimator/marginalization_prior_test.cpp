@@ -58,8 +58,7 @@ TEST(MarginalizationPrior, ReproducesInformationAndGradientAtTheLinearisationPoi
     const NavState x0 = SomeState();
     const MarginalizationPrior prior(StateParameters::FromNavState(x0), H, g);
     const auto blocks = Blocks(x0);
-    const double* ptrs[] = {blocks[0].data(), blocks[1].data(), blocks[2].data(),
-                            blocks[3].data()};
+    const double* ptrs[] = {blocks[0].data(), blocks[1].data(), blocks[2].data(), blocks[3].data()};
     Vec15 r0;
     Eigen::Matrix<double, 15, 4, Eigen::RowMajor> Jq;
     Eigen::Matrix<double, 15, 3, Eigen::RowMajor> Jp, Jv;
@@ -105,7 +104,8 @@ TEST(MarginalizationPrior, JacobiansMatchNumericDifferencesOnTheManifold) {
   double worst = 0.0;
   for (int trial = 0; trial < 5; ++trial) {
     NavState x = x0;
-    x.q_world_imu = x0.q_world_imu * so3::Exp<double>(0.5 * Vec3(normal(rng), normal(rng), normal(rng)));
+    x.q_world_imu =
+        x0.q_world_imu * so3::Exp<double>(0.5 * Vec3(normal(rng), normal(rng), normal(rng)));
     x.p_world += Vec3(normal(rng), normal(rng), normal(rng));
     x.gyro_bias += 0.01 * Vec3(normal(rng), normal(rng), normal(rng));
     const auto check =

@@ -84,7 +84,8 @@ struct Scenario {
       h.header.sensor_id = "dual";
       h.header.stamp_ns = t;
       h.yaw_rad = std::atan2(b.y(), b.x()) + (noisy ? heading_sigma * normal(rng) : 0.0);
-      h.pitch_rad = std::atan2(-b.z(), b.head<2>().norm()) + (noisy ? heading_sigma * normal(rng) : 0.0);
+      h.pitch_rad =
+          std::atan2(-b.z(), b.head<2>().norm()) + (noisy ? heading_sigma * normal(rng) : 0.0);
       h.yaw_sigma_rad = heading_sigma;
       h.pitch_sigma_rad = heading_sigma;
       headings.push_back(h);
@@ -156,11 +157,11 @@ void CheckNoiseFreeTracking(int imu_samples_per_state) {
       ++total_marginalized;
     }
   });
-  std::printf("noise-free, %d sample(s) per state: newest max err rot %.2e rad pos %.2e m vel %.2e "
-              "m/s; %d marginalised states max err rot %.2e pos %.2e vel %.2e\n",
-              imu_samples_per_state, newest.rotation, newest.position, newest.velocity,
-              total_marginalized, marginalized.rotation, marginalized.position,
-              marginalized.velocity);
+  std::printf(
+      "noise-free, %d sample(s) per state: newest max err rot %.2e rad pos %.2e m vel %.2e "
+      "m/s; %d marginalised states max err rot %.2e pos %.2e vel %.2e\n",
+      imu_samples_per_state, newest.rotation, newest.position, newest.velocity, total_marginalized,
+      marginalized.rotation, marginalized.position, marginalized.velocity);
   EXPECT_GT(total_marginalized, 200 / imu_samples_per_state);
   for (const Errors& e : {newest, marginalized}) {
     EXPECT_LT(e.position, 1e-4);
@@ -194,9 +195,11 @@ struct Batch {
 
   void Build(const Scenario& sc) {
     const ImuNoise noise;
-    states.push_back(std::make_unique<StateParameters>(StateParameters::FromNavState(sc.InitialState())));
-    problem.AddResidualBlock(MarginalizationPrior::FromCovariance(sc.InitialState(), InitialCovariance()),
-                             nullptr, Blocks(*states[0]));
+    states.push_back(
+        std::make_unique<StateParameters>(StateParameters::FromNavState(sc.InitialState())));
+    problem.AddResidualBlock(
+        MarginalizationPrior::FromCovariance(sc.InitialState(), InitialCovariance()), nullptr,
+        Blocks(*states[0]));
     NavState current = sc.InitialState();
     for (std::size_t k = 1; k < sc.imu.size(); ++k) {
       ImuPreintegration pim(noise, ImuBias{});
@@ -206,10 +209,10 @@ struct Batch {
       states.push_back(std::make_unique<StateParameters>(StateParameters::FromNavState(current)));
       auto& a = *states[k - 1];
       auto& b = *states[k];
-      problem.AddResidualBlock(new ImuFactor(pim), nullptr,
-                               {a.q_world_imu.data(), a.p_world.data(), a.v_world.data(),
-                                a.bias.data(), b.q_world_imu.data(), b.p_world.data(),
-                                b.v_world.data()});
+      problem.AddResidualBlock(
+          new ImuFactor(pim), nullptr,
+          {a.q_world_imu.data(), a.p_world.data(), a.v_world.data(), a.bias.data(),
+           b.q_world_imu.data(), b.p_world.data(), b.v_world.data()});
       problem.AddResidualBlock(new BiasRandomWalkFactor(noise, pim.dt()), nullptr,
                                {a.bias.data(), b.bias.data()});
     }
@@ -217,8 +220,8 @@ struct Batch {
     for (std::size_t f = 0; f < sc.fixes.size(); ++f) {
       const TimeNs t = sc.fixes[f].header.stamp_ns;
       const std::size_t i = static_cast<std::size_t>((t - sc.imu[0].header.stamp_ns) / kImuStepNs);
-      const auto pim = ImuPreintegration::FromSamples(sc.imu, sc.imu[i].header.stamp_ns, t, noise,
-                                                      ImuBias{});
+      const auto pim =
+          ImuPreintegration::FromSamples(sc.imu, sc.imu[i].header.stamp_ns, t, noise, ImuBias{});
       problem.AddResidualBlock(
           new GnssPropagatedPositionFactor(sc.fixes[f].p_enu, sc.fixes[f].covariance, kFrontAntenna,
                                            pim, states[i]->ToNavState(0).q_world_imu),
@@ -276,7 +279,8 @@ TEST(SlidingWindowSmoother, MarginalizationMatchesTheBatchSolution) {
     ASSERT_EQ(est.t_ns, batch_newest.t_ns);
 
     Vec15 d;
-    d.segment<3>(kRotationIndex) = so3::Log<double>(batch_newest.q_world_imu.conjugate() * est.q_world_imu);
+    d.segment<3>(kRotationIndex) =
+        so3::Log<double>(batch_newest.q_world_imu.conjugate() * est.q_world_imu);
     d.segment<3>(kPositionIndex) = est.p_world - batch_newest.p_world;
     d.segment<3>(kVelocityIndex) = est.v_world - batch_newest.v_world;
     d.segment<3>(kGyroBiasIndex) = est.gyro_bias - batch_newest.gyro_bias;
@@ -285,10 +289,11 @@ TEST(SlidingWindowSmoother, MarginalizationMatchesTheBatchSolution) {
     const double worst_sigma = d.cwiseQuotient(sigma).cwiseAbs().maxCoeff();
     const double worst_var =
         (cov.diagonal().cwiseQuotient(batch_cov.diagonal()).array() - 1.0).abs().maxCoeff();
-    std::printf("window %.1f s vs batch: worst state difference %.2e sigma, worst variance ratio "
-                "deviation %.2e (pos sigma %.1f mm, yaw sigma %.2f mrad)\n",
-                window, worst_sigma, worst_var, 1e3 * sigma(kPositionIndex),
-                1e3 * sigma(kRotationIndex + 2));
+    std::printf(
+        "window %.1f s vs batch: worst state difference %.2e sigma, worst variance ratio "
+        "deviation %.2e (pos sigma %.1f mm, yaw sigma %.2f mrad)\n",
+        window, worst_sigma, worst_var, 1e3 * sigma(kPositionIndex),
+        1e3 * sigma(kRotationIndex + 2));
     EXPECT_LT(worst_sigma, 0.05);
     EXPECT_LT(worst_var, 0.05);
   }
@@ -315,10 +320,13 @@ TEST(SlidingWindowSmoother, LateMeasurementsLandAtTheirOwnStamps) {
   for (int run = 0; run < 2; ++run) {
     SlidingWindowSmoother smoother(options);
     auto& out = run == 0 ? in_order : late;
-    Feed(sc, smoother, [&](const SmootherSolveSummary& s) {
-      EXPECT_TRUE(s.usable);
-      for (const NavState& m : smoother.TakeMarginalizedStates()) out.push_back(m);
-    }, run == 0 ? 0 : 200 * kNsPerMillisecond);
+    Feed(
+        sc, smoother,
+        [&](const SmootherSolveSummary& s) {
+          EXPECT_TRUE(s.usable);
+          for (const NavState& m : smoother.TakeMarginalizedStates()) out.push_back(m);
+        },
+        run == 0 ? 0 : 200 * kNsPerMillisecond);
     newest[run] = smoother.NewestState();
     newest_cov[run] = smoother.NewestCovariance();
   }
@@ -335,12 +343,14 @@ TEST(SlidingWindowSmoother, LateMeasurementsLandAtTheirOwnStamps) {
   for (std::size_t i = 0; i < in_order.size(); ++i) {
     ASSERT_EQ(in_order[i].t_ns, late[i].t_ns);
     worst_p = std::max(worst_p, (in_order[i].p_world - late[i].p_world).norm());
-    worst_r = std::max(worst_r, so3::Log<double>(in_order[i].q_world_imu.conjugate() *
-                                                 late[i].q_world_imu).norm());
+    worst_r = std::max(
+        worst_r,
+        so3::Log<double>(in_order[i].q_world_imu.conjugate() * late[i].q_world_imu).norm());
   }
-  std::printf("0.2 s late fixes vs in order: newest state differs by %.2e sigma; %zu marginalised "
-              "states differ by up to %.2e m, %.2e rad\n",
-              newest_diff, in_order.size(), worst_p, worst_r);
+  std::printf(
+      "0.2 s late fixes vs in order: newest state differs by %.2e sigma; %zu marginalised "
+      "states differ by up to %.2e m, %.2e rad\n",
+      newest_diff, in_order.size(), worst_p, worst_r);
   EXPECT_LT(newest_diff, 0.05);
 }
 
