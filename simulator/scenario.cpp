@@ -20,6 +20,19 @@ GeodeticPoint ParseOrigin(const YamlNode& node) {
   return origin;
 }
 
+// $STATEBENCH_SOURCE_DIR/scenarios/vehicles, then ./scenarios/vehicles (the repository root
+// when run from there).
+std::vector<fs::path> FallbackVehicleDirs() {
+  std::vector<fs::path> dirs;
+  if (const char* source_dir = std::getenv("STATEBENCH_SOURCE_DIR")) {
+    dirs.push_back(fs::path(source_dir) / "scenarios" / "vehicles");
+  }
+  std::error_code ec;
+  const fs::path cwd = fs::current_path(ec);
+  if (!ec) dirs.push_back(cwd / "scenarios" / "vehicles");
+  return dirs;
+}
+
 std::vector<std::string> KnownVehicles(const fs::path& scenario_dir) {
   std::set<std::string> names;
   std::vector<fs::path> dirs;
@@ -29,9 +42,8 @@ std::vector<std::string> KnownVehicles(const fs::path& scenario_dir) {
     dirs.push_back(dir / "scenarios" / "vehicles");
     if (dir == dir.parent_path()) break;
   }
-  if (const char* source_dir = std::getenv("STATEBENCH_SOURCE_DIR")) {
-    dirs.push_back(fs::path(source_dir) / "scenarios" / "vehicles");
-  }
+  const std::vector<fs::path> fallback = FallbackVehicleDirs();
+  dirs.insert(dirs.end(), fallback.begin(), fallback.end());
   std::error_code ec;
   for (const fs::path& dir : dirs) {
     if (!fs::is_directory(dir, ec)) continue;
@@ -147,9 +159,7 @@ std::optional<fs::path> FindVehicleFile(const fs::path& scenario_dir_in, const s
       candidates.push_back(dir / "scenarios" / "vehicles" / file);
       if (dir == dir.parent_path()) break;
     }
-    if (const char* source_dir = std::getenv("STATEBENCH_SOURCE_DIR")) {
-      candidates.push_back(fs::path(source_dir) / "scenarios" / "vehicles" / file);
-    }
+    for (const fs::path& dir : FallbackVehicleDirs()) candidates.push_back(dir / file);
   }
   std::error_code ec;
   for (const fs::path& candidate : candidates) {

@@ -141,7 +141,8 @@ Scenario LoadScenario(const std::filesystem::path& path);
 
 // Resolves a vehicle file name the way LoadScenario does: relative to the scenario's folder,
 // then `vehicles/` or `scenarios/vehicles/` in any parent folder, then
-// $STATEBENCH_SOURCE_DIR/scenarios/vehicles. A name without extension gets ".yaml".
+// $STATEBENCH_SOURCE_DIR/scenarios/vehicles, then ./scenarios/vehicles of the working folder.
+// A name without extension gets ".yaml".
 // Returns nullopt when not found.
 std::optional<std::filesystem::path> FindVehicleFile(const std::filesystem::path& scenario_dir,
                                                      const std::string& name);
