@@ -40,10 +40,10 @@ std::array<std::array<double, kQuinticOrder>, kQuinticOrder> SecondDerivativeGra
                            0.1739274225687269};
   std::array<std::array<double, kQuinticOrder>, kQuinticOrder> g{};
   for (int q = 0; q < 4; ++q) {
-    double b[kQuinticOrder];
+    double b[3][kQuinticOrder];
     QuinticBasis(t[q], 2, b);
     for (int a = 0; a < kQuinticOrder; ++a) {
-      for (int c = 0; c < kQuinticOrder; ++c) g[a][c] += w[q] * b[a] * b[c];
+      for (int c = 0; c < kQuinticOrder; ++c) g[a][c] += w[q] * b[2][a] * b[2][c];
     }
   }
   return g;
@@ -98,8 +98,9 @@ Path Path::Build(const std::vector<Vec3>& polyline, const PathOptions& options) 
     for (int i = 0; i < samples; ++i) {
       const double t = sample_u[i] / h;
       const int k = std::min(path.segments_ - 1, static_cast<int>(std::floor(t)));
-      double b[kQuinticOrder];
-      QuinticBasis(t - k, 0, b);
+      double basis[1][kQuinticOrder];
+      QuinticBasis(t - k, 0, basis);
+      const double* b = basis[0];
       for (int a = 0; a < kQuinticOrder; ++a) {
         rhs_x[k + a] += weight[i] * b[a] * sample_p[i].x();
         rhs_y[k + a] += weight[i] * b[a] * sample_p[i].y();
@@ -121,8 +122,16 @@ Path Path::Build(const std::vector<Vec3>& polyline, const PathOptions& options) 
     if (solver.info() != Eigen::Success) throw InputError("route polyline: smoothing failed");
     const Eigen::VectorXd cx = solver.solve(rhs_x);
     const Eigen::VectorXd cy = solver.solve(rhs_y);
-    path.control_.resize(n);
-    for (int i = 0; i < n; ++i) path.control_[i] = Vec2(cx[i], cy[i]);
+    path.poly_.assign(path.segments_, {});
+    for (int k = 0; k < path.segments_; ++k) {
+      for (int i = 0; i < kQuinticOrder; ++i) {
+        Vec2 c = Vec2::Zero();
+        for (int j = 0; j < kQuinticOrder; ++j) {
+          c += kQuinticPowerMatrix[i][j] * Vec2(cx[k + j], cy[k + j]);
+        }
+        path.poly_[k][i] = c;
+      }
+    }
     if (iteration + 1 >= options.max_iterations) break;
 
     // Where the curvature exceeds the limit, open a gap in the data or widen the gap there.
@@ -165,17 +174,19 @@ Path::Derivatives Path::Eval(double u, int order) const {
   const double t = std::clamp(u, 0.0, raw_length_m_) / knot_m_;
   const int k = std::clamp(static_cast<int>(std::floor(t)), 0, segments_ - 1);
   const double tau = t - k;
+  const std::array<Vec2, kQuinticOrder>& c = poly_[k];
+  // Horner on the polynomial and its derivatives in tau, then d/du = (1/h) d/dtau.
   Derivatives out;
-  Vec2* fields[4] = {&out.r, &out.d1, &out.d2, &out.d3};
-  double scale = 1.0;
-  for (int r = 0; r <= order; ++r) {
-    double b[kQuinticOrder];
-    QuinticBasis(tau, r, b);
-    Vec2 v = Vec2::Zero();
-    for (int a = 0; a < kQuinticOrder; ++a) v += b[a] * control_[k + a];
-    *fields[r] = v * scale;
-    scale /= knot_m_;
-  }
+  out.r = c[0] + tau * (c[1] + tau * (c[2] + tau * (c[3] + tau * (c[4] + tau * c[5]))));
+  if (order < 1) return out;
+  const double inv_h = 1.0 / knot_m_;
+  out.d1 = (c[1] + tau * (2.0 * c[2] + tau * (3.0 * c[3] + tau * (4.0 * c[4] + tau * 5.0 * c[5])))) *
+           inv_h;
+  if (order < 2) return out;
+  out.d2 = (2.0 * c[2] + tau * (6.0 * c[3] + tau * (12.0 * c[4] + tau * 20.0 * c[5]))) *
+           (inv_h * inv_h);
+  if (order < 3) return out;
+  out.d3 = (6.0 * c[3] + tau * (24.0 * c[4] + tau * 60.0 * c[5])) * (inv_h * inv_h * inv_h);
   return out;
 }
 
@@ -245,7 +256,7 @@ PathProjection Path::ProjectFrom(const Vec2& p, double u) const {
     if (gp <= 0.0) gp = d.d1.squaredNorm();
     const double step = std::clamp(g / gp, -knot_m_, knot_m_);
     const double next = std::clamp(u - step, 0.0, raw_length_m_);
-    const bool done = std::abs(next - u) < 1e-11;
+    const bool done = std::abs(next - u) < 1e-9;
     u = next;
     if (done) break;
   }
@@ -255,13 +266,28 @@ PathProjection Path::ProjectFrom(const Vec2& p, double u) const {
   PathProjection out;
   out.lateral_m = Cross(tangent, e);
   out.s_m = ArcAt(u);
+  out.raw_s_m = u;
   // Before the start or after the end: along the straight extension.
   if (u <= 0.0 || u >= raw_length_m_) out.s_m += tangent.dot(e);
   return out;
 }
 
-PathProjection Path::Project(const Vec2& p, double s_hint_m) const {
-  return ProjectFrom(p, ParamAt(s_hint_m));
+PathProjection Path::Project(const Vec2& p, const PathProjection& hint) const {
+  return ProjectFrom(p, hint.raw_s_m);
+}
+
+PathProjection Path::HintAt(double s_m) const {
+  PathProjection out;
+  out.s_m = s_m;
+  out.raw_s_m = ParamAt(s_m);
+  return out;
+}
+
+Vec2 Path::PositionAtRaw(double s_raw_m) const {
+  const double uc = std::clamp(s_raw_m, 0.0, raw_length_m_);
+  if (uc == s_raw_m) return Eval(uc, 0).r;
+  const Derivatives d = Eval(uc, 1);
+  return d.r + (s_raw_m - uc) * d.d1.normalized();
 }
 
 PathProjection Path::Project(const Vec2& p) const {

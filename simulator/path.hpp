@@ -19,9 +19,11 @@
 // Beyond either end the path continues as a straight line along the end tangent.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "core/eigen_types.hpp"
+#include "simulator/quintic_bspline.hpp"
 
 namespace statebench::sim {
 
@@ -44,6 +46,8 @@ struct PathPoint {
 struct PathProjection {
   double s_m = 0.0;        // arc length of the closest point (may be < 0 or > length)
   double lateral_m = 0.0;  // signed distance of the point from the path, left positive
+  double raw_s_m = 0.0;    // SUMO (raw polyline) arc length of the closest point, in
+                           // [0, raw length]; a cheap warm start for the next projection
 };
 
 // SUMO arc length mapped to the path: s and its first two derivatives in s_raw.
@@ -64,11 +68,15 @@ class Path {
 
   PathPoint At(double s_m) const;
   Vec2 Position(double s_m) const;
-  // Closest point, by Newton iterations started at s_hint (the caller's previous answer);
-  // converges to the local minimum of the distance near the hint.
-  PathProjection Project(const Vec2& p, double s_hint_m) const;
+  // Point of the path that corresponds to SUMO arc length s_raw (cheaper than Position).
+  Vec2 PositionAtRaw(double s_raw_m) const;
+  // Closest point, by Newton iterations started at a previous answer (see HintAt); converges
+  // to the local minimum of the distance near the hint.
+  PathProjection Project(const Vec2& p, const PathProjection& hint) const;
   // Closest point over the whole path (scans the path: for initialisation only).
   PathProjection Project(const Vec2& p) const;
+  // A projection hint at path arc length s.
+  PathProjection HintAt(double s_m) const;
   RawToPath FromRaw(double s_raw_m) const;
 
  private:
@@ -85,7 +93,8 @@ class Path {
   double raw_length_m_ = 0.0;
   double knot_m_ = 1.0;              // knot spacing h in u
   int segments_ = 0;
-  std::vector<Vec2> control_;        // segments_ + 5 control points
+  // Segment k in the power basis: r(u) = sum_i poly_[k][i] tau^i, tau = u / h - k.
+  std::vector<std::array<Vec2, kQuinticOrder>> poly_;
   double table_step_m_ = 0.125;      // u step of the arc-length table
   std::vector<double> arc_;          // S at u = k * table_step_m_
 };

@@ -1,29 +1,39 @@
 #include "simulator/quintic_bspline.hpp"
 
+#include <array>
+
 namespace statebench::sim {
 namespace {
 
-// Rows: powers of tau; columns: basis functions. Divided by 120.
-constexpr double kM[6][6] = {{1, 26, 66, 26, 1, 0},      {-5, -50, 0, 50, 5, 0},
-                             {10, 20, -60, 20, 10, 0},   {-10, 20, 0, -20, 10, 0},
-                             {5, -20, 30, -20, 5, 0},    {-1, 5, -10, 10, -5, 1}};
+using Table = std::array<std::array<std::array<double, 6>, 6>, 6>;
+
+// kD[r][i][j]: coefficient of tau^i in d^r B_j / d tau^r, i.e. M[i + r][j] (i + r)! / i! / 120.
+constexpr Table MakeDerivativeTable() {
+  Table d{};
+  for (int r = 0; r < 6; ++r) {
+    for (int i = 0; i + r < 6; ++i) {
+      double factor = 1.0;
+      for (int k = i + 1; k <= i + r; ++k) factor *= k;
+      for (int j = 0; j < 6; ++j) d[r][i][j] = kQuinticPowerMatrix[i + r][j] * factor;
+    }
+  }
+  return d;
+}
+
+constexpr Table kD = MakeDerivativeTable();
 
 }  // namespace
 
-void QuinticBasis(double tau, int derivative, double b[kQuinticOrder]) {
-  // coef[m] = d^r/dtau^r tau^m = m! / (m - r)! tau^(m - r).
-  double coef[6] = {0, 0, 0, 0, 0, 0};
-  for (int m = derivative; m < 6; ++m) {
-    double factor = 1.0;
-    for (int i = 0; i < derivative; ++i) factor *= m - i;
-    double power = 1.0;
-    for (int i = 0; i < m - derivative; ++i) power *= tau;
-    coef[m] = factor * power / 120.0;
-  }
-  for (int j = 0; j < 6; ++j) {
-    double s = 0.0;
-    for (int m = derivative; m < 6; ++m) s += coef[m] * kM[m][j];
-    b[j] = s;
+void QuinticBasis(double tau, int max_derivative, double b[][kQuinticOrder]) {
+  double power[6];
+  power[0] = 1.0;
+  for (int i = 1; i < 6; ++i) power[i] = power[i - 1] * tau;
+  for (int r = 0; r <= max_derivative; ++r) {
+    for (int j = 0; j < 6; ++j) {
+      double s = 0.0;
+      for (int i = 0; i + r < 6; ++i) s += kD[r][i][j] * power[i];
+      b[r][j] = s;
+    }
   }
 }
 

@@ -12,7 +12,17 @@ namespace statebench::sim {
 
 inline constexpr int kQuinticOrder = 6;  // number of basis functions per segment
 
-// b[j] = d^derivative B_j / d tau^derivative at tau, j = 0..5; derivative in 0..5.
-void QuinticBasis(double tau, int derivative, double b[kQuinticOrder]);
+// M / 120: rows are powers of tau, columns basis functions. The power-basis coefficients of a
+// segment are c_i = sum_j kQuinticPowerMatrix[i][j] P_{k+j}.
+inline constexpr double kQuinticPowerMatrix[6][6] = {
+    {1 / 120.0, 26 / 120.0, 66 / 120.0, 26 / 120.0, 1 / 120.0, 0.0},
+    {-5 / 120.0, -50 / 120.0, 0.0, 50 / 120.0, 5 / 120.0, 0.0},
+    {10 / 120.0, 20 / 120.0, -60 / 120.0, 20 / 120.0, 10 / 120.0, 0.0},
+    {-10 / 120.0, 20 / 120.0, 0.0, -20 / 120.0, 10 / 120.0, 0.0},
+    {5 / 120.0, -20 / 120.0, 30 / 120.0, -20 / 120.0, 5 / 120.0, 0.0},
+    {-1 / 120.0, 5 / 120.0, -10 / 120.0, 10 / 120.0, -5 / 120.0, 1 / 120.0}};
+
+// b[r][j] = d^r B_j / d tau^r at tau, for j = 0..5 and r = 0..max_derivative (<= 5).
+void QuinticBasis(double tau, int max_derivative, double b[][kQuinticOrder]);
 
 }  // namespace statebench::sim

@@ -64,15 +64,17 @@ Terrain Terrain::Fit(const std::vector<Vec3>& points, const TerrainOptions& opti
   // coefficients it can share a point with, and A^T (z - h0).
   std::vector<double> ata(static_cast<std::size_t>(n) * kWindow * kWindow, 0.0);
   std::vector<double> atb(n, 0.0);
-  double bx[kQuinticOrder];
-  double by[kQuinticOrder];
+  double basis_x[1][kQuinticOrder];
+  double basis_y[1][kQuinticOrder];
+  const double* bx = basis_x[0];
+  const double* by = basis_y[0];
   for (const Vec3& p : points) {
     double tx = 0.0;
     double ty = 0.0;
     const int kx = Segment(p.x(), t.x0_m_, d, &tx);
     const int ky = Segment(p.y(), t.y0_m_, d, &ty);
-    QuinticBasis(tx, 0, bx);
-    QuinticBasis(ty, 0, by);
+    QuinticBasis(tx, 0, basis_x);
+    QuinticBasis(ty, 0, basis_y);
     const double r = p.z() - base;
     for (int ja = 0; ja < kQuinticOrder; ++ja) {
       for (int ia = 0; ia < kQuinticOrder; ++ia) {
@@ -165,10 +167,10 @@ TerrainSample Terrain::Evaluate(double x_m, double y_m, int order) const {
   // Basis values and derivatives in x and y (per metre: d/dx = (1/d) d/dtau).
   double bx[4][kQuinticOrder];
   double by[4][kQuinticOrder];
+  QuinticBasis(tx, order, bx);
+  QuinticBasis(ty, order, by);
   double inv_d = 1.0;
   for (int r = 0; r <= order; ++r) {
-    QuinticBasis(tx, r, bx[r]);
-    QuinticBasis(ty, r, by[r]);
     for (int m = 0; m < kQuinticOrder; ++m) {
       bx[r][m] *= inv_d;
       by[r][m] *= inv_d;

@@ -113,7 +113,7 @@ TEST(Path, ProjectionRecoversArcLengthAndOffset) {
       const PathPoint p = path.At(s);
       const Vec2 normal(-std::sin(p.heading_rad), std::cos(p.heading_rad));
       const Vec2 q = p.position + d * normal;
-      const PathProjection local = path.Project(q, s + 2.0);
+      const PathProjection local = path.Project(q, path.HintAt(s + 2.0));
       const PathProjection global = path.Project(q);
       EXPECT_NEAR(local.s_m, s, 1e-7) << s << " " << d;
       EXPECT_NEAR(local.lateral_m, d, 1e-7);
@@ -124,7 +124,7 @@ TEST(Path, ProjectionRecoversArcLengthAndOffset) {
   const PathProjection before = path.Project(Vec2(-3.0, 0.5));
   EXPECT_NEAR(before.s_m, -3.0, 1e-6);
   EXPECT_NEAR(before.lateral_m, 0.5, 1e-6);
-  const PathProjection after = path.Project(Vec2(99.0, 104.0), path.length_m());
+  const PathProjection after = path.Project(Vec2(99.0, 104.0), path.HintAt(path.length_m()));
   EXPECT_NEAR(after.s_m, path.length_m() + 4.0, 1e-6);
   EXPECT_NEAR(after.lateral_m, 1.0, 1e-6);
 }
@@ -140,7 +140,9 @@ TEST(Path, MapsSumoArcLengthToThePath) {
   EXPECT_NEAR(path.FromRaw(170.0).s_m, 170.0 - shortcut, 1e-6);
   // The mapped point is the path point nearest the raw point.
   const RawToPath m = path.FromRaw(100.0);
-  EXPECT_NEAR(path.Project(Vec2(100.0, 0.0), 100.0).s_m, m.s_m, 0.05);
+  EXPECT_NEAR(path.Project(Vec2(100.0, 0.0)).s_m, m.s_m, 0.05);
+  EXPECT_NEAR((path.PositionAtRaw(100.0) - path.Position(m.s_m)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((path.PositionAtRaw(205.0) - path.Position(path.length_m() + 5.0)).norm(), 0.0, 1e-9);
   // Derivatives in s_raw.
   const double e = 1e-4;
   for (double u : {95.0, 100.0, 103.0}) {

@@ -73,9 +73,9 @@ TEST(Terrain, ReproducesAPlaneExactly) {
   for (const Vec2& p : {Vec2(0.0, 0.0), Vec2(123.0, 61.0), Vec2(480.0, 360.0)}) {
     const TerrainSample s = t.Evaluate(p.x(), p.y(), 3);
     EXPECT_NEAR(s.h, plane(p.x(), p.y()), 1e-4);
-    EXPECT_NEAR(s.gradient.x(), 0.04, 1e-6);
-    EXPECT_NEAR(s.gradient.y(), -0.02, 1e-6);
-    EXPECT_LT(s.hessian.cwiseAbs().maxCoeff(), 1e-7);
+    EXPECT_NEAR(s.gradient.x(), 0.04, 1e-5);
+    EXPECT_NEAR(s.gradient.y(), -0.02, 1e-5);
+    EXPECT_LT(s.hessian.cwiseAbs().maxCoeff(), 1e-6);
   }
 }
 
