@@ -51,7 +51,8 @@ StrapdownState StrapdownStep(const StrapdownState& x, const InertialRates& start
   const Rate k4 = Derivative(Advance(x0, k3, h_s), end);
   const double w = h_s / 6.0;
   StrapdownState out;
-  out.q_world_body = Quat(Vec4(x0.q + w * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq))).normalized();
+  out.q_world_body =
+      Quat(Vec4(x0.q + w * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq))).normalized();
   out.v_world = x0.v + w * (k1.dv + 2.0 * k2.dv + 2.0 * k3.dv + k4.dv);
   out.p_world = x0.p + w * (k1.dp + 2.0 * k2.dp + 2.0 * k3.dp + k4.dp);
   return out;

@@ -60,7 +60,8 @@ FrameKinematics BodyKinematics(const Terrain& terrain, const VehicleState& x,
   const Vec2 e_perp(-s, c);
   const double grade = g.dot(e);
   const double d_grade = dg.dot(e) + r * g.dot(e_perp);
-  const double dd_grade = ddg.dot(e) + 2.0 * r * dg.dot(e_perp) - r * r * grade + dr * g.dot(e_perp);
+  const double dd_grade =
+      ddg.dot(e) + 2.0 * r * dg.dot(e_perp) - r * r * grade + dr * g.dot(e_perp);
   const UnitVector xb = Normalize(Vec3(c, s, grade), Vec3(-s * r, c * r, d_grade),
                                   Vec3(-c * r * r - s * dr, -s * r * r + c * dr, dd_grade));
   // Body y = z x x.

@@ -1,12 +1,11 @@
 #include "simulator/path.hpp"
 
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 
 #include "core/error.hpp"
 #include "simulator/quintic_bspline.hpp"
@@ -15,7 +14,8 @@ namespace statebench::sim {
 namespace {
 
 constexpr int kTableSubdivisions = 8;  // arc-length table entries per knot segment
-constexpr double kGapWeight = 1e-6;  // data weight inside a corner gap  // arc-length table entries per knot segment
+constexpr double kGapWeight =
+    1e-6;  // data weight inside a corner gap  // arc-length table entries per knot segment
 // 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5.
 constexpr double kGaussT[3] = {0.5 - 0.3872983346207417, 0.5, 0.5 + 0.3872983346207417};
 constexpr double kGaussW[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
@@ -180,11 +180,12 @@ Path::Derivatives Path::Eval(double u, int order) const {
   out.r = c[0] + tau * (c[1] + tau * (c[2] + tau * (c[3] + tau * (c[4] + tau * c[5]))));
   if (order < 1) return out;
   const double inv_h = 1.0 / knot_m_;
-  out.d1 = (c[1] + tau * (2.0 * c[2] + tau * (3.0 * c[3] + tau * (4.0 * c[4] + tau * 5.0 * c[5])))) *
-           inv_h;
+  out.d1 =
+      (c[1] + tau * (2.0 * c[2] + tau * (3.0 * c[3] + tau * (4.0 * c[4] + tau * 5.0 * c[5])))) *
+      inv_h;
   if (order < 2) return out;
-  out.d2 = (2.0 * c[2] + tau * (6.0 * c[3] + tau * (12.0 * c[4] + tau * 20.0 * c[5]))) *
-           (inv_h * inv_h);
+  out.d2 =
+      (2.0 * c[2] + tau * (6.0 * c[3] + tau * (12.0 * c[4] + tau * 20.0 * c[5]))) * (inv_h * inv_h);
   if (order < 3) return out;
   out.d3 = (6.0 * c[3] + tau * (24.0 * c[4] + tau * 60.0 * c[5])) * (inv_h * inv_h * inv_h);
   return out;
@@ -192,8 +193,8 @@ Path::Derivatives Path::Eval(double u, int order) const {
 
 double Path::ArcAt(double u) const {
   const double uc = std::clamp(u, 0.0, raw_length_m_);
-  const int k = std::min(static_cast<int>(arc_.size()) - 2,
-                         static_cast<int>(std::floor(uc / table_step_m_)));
+  const int k =
+      std::min(static_cast<int>(arc_.size()) - 2, static_cast<int>(std::floor(uc / table_step_m_)));
   const double u0 = k * table_step_m_;
   const double du = uc - u0;
   double piece = 0.0;
@@ -204,8 +205,8 @@ double Path::ArcAt(double u) const {
 double Path::ParamAt(double s) const {
   const double sc = std::clamp(s, 0.0, length_m());
   const auto it = std::upper_bound(arc_.begin(), arc_.end(), sc);
-  const int k = std::clamp(static_cast<int>(it - arc_.begin()) - 1, 0,
-                           static_cast<int>(arc_.size()) - 2);
+  const int k =
+      std::clamp(static_cast<int>(it - arc_.begin()) - 1, 0, static_cast<int>(arc_.size()) - 2);
   // Linear start inside the table interval, then Newton on S(u) = s (S' = |r'| > 0).
   const double a = (sc - arc_[k]) / (arc_[k + 1] - arc_[k]);
   double u = (k + a) * table_step_m_;

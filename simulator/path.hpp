@@ -37,9 +37,9 @@ struct PathOptions {
 };
 
 struct PathPoint {
-  Vec2 position = Vec2::Zero();     // ENU x, y (m)
-  double heading_rad = 0.0;         // of the tangent, from east, counter-clockwise
-  double curvature_1pm = 0.0;       // positive to the left
+  Vec2 position = Vec2::Zero();      // ENU x, y (m)
+  double heading_rad = 0.0;          // of the tangent, from east, counter-clockwise
+  double curvature_1pm = 0.0;        // positive to the left
   double curvature_rate_1pm2 = 0.0;  // d curvature / ds
 };
 
@@ -85,18 +85,18 @@ class Path {
   };
   Derivatives Eval(double u, int order) const;
   double SpeedAt(double u) const { return Eval(u, 1).d1.norm(); }
-  double ArcAt(double u) const;  // S(u) for u in [0, raw length]
+  double ArcAt(double u) const;    // S(u) for u in [0, raw length]
   double ParamAt(double s) const;  // inverse of ArcAt for s in [0, length]
   PathProjection ProjectFrom(const Vec2& p, double u) const;
 
   std::vector<Vec2> raw_;
   double raw_length_m_ = 0.0;
-  double knot_m_ = 1.0;              // knot spacing h in u
+  double knot_m_ = 1.0;  // knot spacing h in u
   int segments_ = 0;
   // Segment k in the power basis: r(u) = sum_i poly_[k][i] tau^i, tau = u / h - k.
   std::vector<std::array<Vec2, kQuinticOrder>> poly_;
-  double table_step_m_ = 0.125;      // u step of the arc-length table
-  std::vector<double> arc_;          // S at u = k * table_step_m_
+  double table_step_m_ = 0.125;  // u step of the arc-length table
+  std::vector<double> arc_;      // S at u = k * table_step_m_
 };
 
 }  // namespace statebench::sim

@@ -13,9 +13,9 @@
 namespace statebench::sim {
 
 struct SpeedControllerOptions {
-  double speed_gain_1ps = 1.0;        // k_v
-  double distance_gain_1ps2 = 0.25;   // k_s
-  double max_distance_error_m = 3.0;  // e_max
+  double speed_gain_1ps = 1.0;         // k_v
+  double distance_gain_1ps2 = 0.25;    // k_s
+  double max_distance_error_m = 3.0;   // e_max
   double stop_time_constant_s = 0.35;  // tau_stop, >= 4 x the drive lag for no overshoot
 };
 

@@ -20,9 +20,9 @@ double Height(double x, double y, bool hilly) {
 
 // Corners of the route: left, left, right, right, right, left turns, 810 m in all.
 const std::vector<Vec2>& Corners() {
-  static const std::vector<Vec2> corners = {Vec2(0, 0),     Vec2(150, 0),   Vec2(150, 100),
-                                            Vec2(60, 100),  Vec2(60, 180),  Vec2(250, 180),
-                                            Vec2(250, 60),  Vec2(330, 60)};
+  static const std::vector<Vec2> corners = {Vec2(0, 0),    Vec2(150, 0),  Vec2(150, 100),
+                                            Vec2(60, 100), Vec2(60, 180), Vec2(250, 180),
+                                            Vec2(250, 60), Vec2(330, 60)};
   return corners;
 }
 
@@ -112,8 +112,8 @@ SyntheticRoute MakeSyntheticRoute(const SyntheticRouteOptions& o) {
       }
       continue;
     }
-    double v_next = std::max(0.0, std::min(v + o.acceleration_mps2 * kDt,
-                                           EnvelopeAt(envelope, s + v * kDt)));
+    double v_next =
+        std::max(0.0, std::min(v + o.acceleration_mps2 * kDt, EnvelopeAt(envelope, s + v * kDt)));
     const double stop_s = next_stop < stops.size() ? stops[next_stop] : end_s;
     const bool arriving = stop_s - s < 0.5 && v_next < 0.3;
     if (arriving) v_next = 0.0;

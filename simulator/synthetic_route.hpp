@@ -15,7 +15,7 @@ namespace statebench::sim {
 // One SUMO-like reference sample; between samples the acceleration is constant.
 struct ReferenceSample {
   double t_s = 0.0;
-  double s_m = 0.0;     // arc length of the body origin along the raw route polyline
+  double s_m = 0.0;  // arc length of the body origin along the raw route polyline
   double v_mps = 0.0;
   double a_mps2 = 0.0;  // held until the next sample
 };
@@ -34,9 +34,9 @@ struct SyntheticRouteOptions {
 };
 
 struct SyntheticRoute {
-  std::vector<Vec3> polyline;                  // the ego's lane centre line (SUMO-like)
-  std::vector<std::vector<Vec3>> network;      // lane shapes of the whole network
-  std::vector<ReferenceSample> profile;        // every 0.1 s
+  std::vector<Vec3> polyline;              // the ego's lane centre line (SUMO-like)
+  std::vector<std::vector<Vec3>> network;  // lane shapes of the whole network
+  std::vector<ReferenceSample> profile;    // every 0.1 s
 };
 
 SyntheticRoute MakeSyntheticRoute(const SyntheticRouteOptions& options = {});

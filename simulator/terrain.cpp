@@ -1,10 +1,10 @@
 #include "simulator/terrain.hpp"
 
-#include <algorithm>
-#include <cmath>
-
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
 
 #include "core/error.hpp"
 #include "simulator/quintic_bspline.hpp"
@@ -94,7 +94,8 @@ Terrain Terrain::Fit(const std::vector<Vec3>& points, const TerrainOptions& opti
 
   double diag_sum = 0.0;
   constexpr int kCentre = (kQuinticOrder - 1) * kWindow + kQuinticOrder - 1;
-  for (int a = 0; a < n; ++a) diag_sum += ata[static_cast<std::size_t>(a) * kWindow * kWindow + kCentre];
+  for (int a = 0; a < n; ++a)
+    diag_sum += ata[static_cast<std::size_t>(a) * kWindow * kWindow + kCentre];
   const double scale = diag_sum / n;
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd rhs(n);
@@ -115,8 +116,8 @@ Terrain Terrain::Fit(const std::vector<Vec3>& points, const TerrainOptions& opti
   for (int j = 0; j < t.ny_; ++j) {
     for (int i = 0; i < t.nx_; ++i) {
       const int a = j * t.nx_ + i;
-      for (const auto& [step, inside] : {std::pair{1, i > 0 && i + 1 < t.nx_},
-                                         std::pair{t.nx_, j > 0 && j + 1 < t.ny_}}) {
+      for (const auto& [step, inside] :
+           {std::pair{1, i > 0 && i + 1 < t.nx_}, std::pair{t.nx_, j > 0 && j + 1 < t.ny_}}) {
         if (!inside) continue;
         const int ids[3] = {a - step, a, a + step};
         const double coef[3] = {1.0, -2.0, 1.0};
@@ -128,11 +129,20 @@ Terrain Terrain::Fit(const std::vector<Vec3>& points, const TerrainOptions& opti
   }
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
-  if (solver.info() != Eigen::Success) {
-    throw InputError("terrain: elevation fit failed (degenerate road points)");
+  // Conjugate gradients (Jacobi preconditioned) scale to large networks far better than a
+  // sparse Cholesky of this 2D stencil; the direct solver is the fallback.
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+  cg.setTolerance(1e-10);
+  cg.setMaxIterations(20 * n);
+  cg.compute(normal);
+  Eigen::VectorXd x = cg.solve(rhs);
+  if (cg.info() != Eigen::Success) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(normal);
+    if (ldlt.info() != Eigen::Success) {
+      throw InputError("terrain: elevation fit failed (degenerate road points)");
+    }
+    x = ldlt.solve(rhs);
   }
-  const Eigen::VectorXd x = solver.solve(rhs);
   t.coefficients_.assign(x.data(), x.data() + n);
   return t;
 }

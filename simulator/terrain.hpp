@@ -65,7 +65,7 @@ class Terrain {
   double spacing_m_ = 1.0;
   double x0_m_ = 0.0;  // segment (k, l) covers [x0 + k d, x0 + (k+1) d) x [y0 + l d, ...)
   double y0_m_ = 0.0;
-  int nx_ = 0;         // coefficients per row; segment k uses coefficients k .. k + 5
+  int nx_ = 0;  // coefficients per row; segment k uses coefficients k .. k + 5
   int ny_ = 0;
   std::vector<double> coefficients_;  // nx * ny, index j * nx + i; empty when flat
 };

@@ -35,8 +35,9 @@ VehicleModel::VehicleModel(VehicleParams params, std::shared_ptr<const Terrain> 
   if (!(options_.kinematic_below_mps >= 0.0) ||
       !(options_.dynamic_above_mps > options_.kinematic_below_mps) ||
       !(options_.relaxation_time_s > 0.0)) {
-    throw InputError("vehicle model options: need 0 <= kinematic_below < dynamic_above and a "
-                     "positive relaxation time");
+    throw InputError(
+        "vehicle model options: need 0 <= kinematic_below < dynamic_above and a "
+        "positive relaxation time");
   }
   // With tan(dr) ~ -k tan(df): tan(delta(x)) = tan(df) ((lr - k lf) + (1 + k) x) / L = 0 at x_c.
   const double k = params_.rear_steering_ratio;
@@ -49,8 +50,7 @@ VehicleModel::VehicleModel(VehicleParams params, std::shared_ptr<const Terrain> 
 }
 
 double VehicleModel::KinematicCurvature(double front_steer_rad) const {
-  return (std::tan(front_steer_rad) - std::tan(RearSteer(front_steer_rad))) /
-         params_.wheelbase_m();
+  return (std::tan(front_steer_rad) - std::tan(RearSteer(front_steer_rad))) / params_.wheelbase_m();
 }
 
 double VehicleModel::SteerForCurvature(double kappa_1pm) const {
@@ -92,7 +92,8 @@ double VehicleModel::Resistance(double u_mps) const {
   // Rolling resistance fades in over 0.1 m/s so that it is smooth through standstill.
   const double rolling =
       params_.rolling_resistance_coefficient * params_.mass_kg * kGravity * std::tanh(u_mps / 0.1);
-  const double aero = 0.5 * options_.air_density_kgpm3 * params_.drag_area_m2 * u_mps * std::abs(u_mps);
+  const double aero =
+      0.5 * options_.air_density_kgpm3 * params_.drag_area_m2 * u_mps * std::abs(u_mps);
   return rolling + aero;
 }
 
@@ -131,8 +132,8 @@ VehicleState VehicleModel::Derivative(const VehicleState& x, const VehicleComman
   dx.y_m = s * u + c * w;
   dx.yaw_rad = r;
   const double rate_max = p.max_steering_rate_radps;
-  dx.steer_rad =
-      rate_max * std::tanh((command.steer_rad - x.steer_rad) / (p.steering_time_constant_s * rate_max));
+  dx.steer_rad = rate_max * std::tanh((command.steer_rad - x.steer_rad) /
+                                      (p.steering_time_constant_s * rate_max));
   dx.force_n = (command.force_n - x.force_n) / p.drive_time_constant_s;
 
   const Vec2 slope = SlopeGravity(x.yaw_rad, terrain_gradient);

@@ -71,8 +71,8 @@ void CheckConsistency(const YamlNode& node, const VehicleParams& p) {
   }
   if (p.track_width_m >= p.body.width_m) {
     node["track_width_m"].Fail("track width " + Format(p.track_width_m) +
-                               " m must be smaller than the body width " +
-                               Format(p.body.width_m) + " m");
+                               " m must be smaller than the body width " + Format(p.body.width_m) +
+                               " m");
   }
   if (p.cg_height_m >= p.body.height_m) {
     node["cg_height_m"].Fail("centre of gravity above the roof (body height " +
@@ -90,12 +90,12 @@ void CheckConsistency(const YamlNode& node, const VehicleParams& p) {
   }
   const double max_accel = p.friction_coefficient * kGravity;
   if (p.max_acceleration_mps2 > max_accel) {
-    node["max_acceleration_mps2"].Fail("exceeds what the tyres allow (mu g = " +
-                                       Format(max_accel) + " m/s^2)");
+    node["max_acceleration_mps2"].Fail("exceeds what the tyres allow (mu g = " + Format(max_accel) +
+                                       " m/s^2)");
   }
   if (p.max_deceleration_mps2 > max_accel) {
-    node["max_deceleration_mps2"].Fail("exceeds what the tyres allow (mu g = " +
-                                       Format(max_accel) + " m/s^2)");
+    node["max_deceleration_mps2"].Fail("exceeds what the tyres allow (mu g = " + Format(max_accel) +
+                                       " m/s^2)");
   }
   const double rear_angle = p.rear_steering_ratio * p.max_steering_angle_rad;
   if (std::abs(rear_angle) >= 1.2) {

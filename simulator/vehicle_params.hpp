@@ -28,13 +28,13 @@ struct VehicleParams {
   std::string name;
   VehicleKind kind = VehicleKind::kQuadricycle;
 
-  double mass_kg = 0.0;            // including driver / nominal passengers
-  double yaw_inertia_kgm2 = 0.0;   // about the vertical axis through the CG
-  double cg_height_m = 0.0;        // CG above the road
+  double mass_kg = 0.0;             // including driver / nominal passengers
+  double yaw_inertia_kgm2 = 0.0;    // about the vertical axis through the CG
+  double cg_height_m = 0.0;         // CG above the road
   double cg_to_front_axle_m = 0.0;  // lf
   double cg_to_rear_axle_m = 0.0;   // lr
-  double track_width_m = 0.0;      // lateral distance between left and right wheel contacts
-  double wheel_radius_m = 0.0;     // rolling radius
+  double track_width_m = 0.0;       // lateral distance between left and right wheel contacts
+  double wheel_radius_m = 0.0;      // rolling radius
 
   // Lateral tyre model: F_y = mu F_z tanh(C alpha / (mu F_z)), per axle (both tyres).
   double cornering_stiffness_front_npr = 0.0;  // N/rad

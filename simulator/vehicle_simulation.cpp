@@ -39,11 +39,13 @@ void VehicleSimulation::Reset(double s_raw_m, double v_mps, TimeNs t_ns) {
   const double l = model_.params().wheelbase_m();
   const double tf = std::tan(state_.steer_rad);
   const double tr = std::tan(model_.RearSteer(state_.steer_rad));
-  state_.w_mps = v_mps * (model_.params().cg_to_rear_axle_m * tf +
-                          model_.params().cg_to_front_axle_m * tr) / l;
+  state_.w_mps =
+      v_mps * (model_.params().cg_to_rear_axle_m * tf + model_.params().cg_to_front_axle_m * tr) /
+      l;
   state_.yaw_rate_radps = v_mps * (tf - tr) / l;
   // Force that holds the speed against resistance and slope.
-  state_.force_n = model_.Resistance(v_mps) - model_.params().mass_kg * model_.SlopeGravity(state_).x();
+  state_.force_n =
+      model_.Resistance(v_mps) - model_.params().mass_kg * model_.SlopeGravity(state_).x();
   t_ns_ = t_ns;
   projection_ = path_->Project(at.position);
   reference_ = SpeedReference{mapped.s_m, v_mps * mapped.ds_draw, 0.0};
@@ -100,7 +102,16 @@ TruthSample VehicleSimulation::Truth() const {
     const Vec3 rolling(std::cos(angles[i]), std::sin(angles[i]), 0.0);
     truth.wheel_omega_radps[i] = v_contact.dot(rolling) / model_.params().wheel_radius_m;
   }
-  truth.sideslip_rad = std::atan2(v_body.y(), v_body.x());
+  // Side slip of the body origin; at standstill its limit for rolling off without slip,
+  // atan(A) (vehicle_model.hpp), instead of the angle of a rounding-noise velocity.
+  if (v_body.head<2>().norm() > 1e-6) {
+    truth.sideslip_rad = std::atan2(v_body.y(), v_body.x());
+  } else {
+    const VehicleParams& p = model_.params();
+    truth.sideslip_rad = std::atan((p.cg_to_rear_axle_m * std::tan(truth.steering_front_rad) +
+                                    p.cg_to_front_axle_m * std::tan(truth.steering_rear_rad)) /
+                                   p.wheelbase_m());
+  }
   truth.distance_m = state_.distance_m;
   return truth;
 }

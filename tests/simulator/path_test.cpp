@@ -59,7 +59,8 @@ TEST(Path, RightAngleCornerIsRoundedLikeADriverWould) {
     // More than 20 m from the corner the path lies on the lane.
     const double to_corner = (p.position - Vec2(100, 0)).norm();
     if (to_corner > 20.0) {
-      max_straight_dev = std::max(max_straight_dev, DistanceToPolyline(path.raw_polyline(), p.position));
+      max_straight_dev =
+          std::max(max_straight_dev, DistanceToPolyline(path.raw_polyline(), p.position));
     }
     prev = p;
   }
@@ -67,8 +68,8 @@ TEST(Path, RightAngleCornerIsRoundedLikeADriverWould) {
   RecordProperty("corner_cut_m", std::to_string(cut));
   RecordProperty("max_curvature", std::to_string(max_kappa));
   EXPECT_LE(max_kappa, 0.2 * 1.02);
-  EXPECT_GT(max_kappa, 0.1);             // a real turn, not a wide sweep
-  EXPECT_LT(cut, -0.5);                  // the corner lies to the right of a left turn
+  EXPECT_GT(max_kappa, 0.1);  // a real turn, not a wide sweep
+  EXPECT_LT(cut, -0.5);       // the corner lies to the right of a left turn
   EXPECT_GT(cut, -4.0);
   EXPECT_LT(max_straight_dev, 0.02);
   EXPECT_LT(max_heading_jump, 0.2 * ds * 1.05);  // |dheading/ds| = |kappa| <= 0.2

@@ -34,8 +34,8 @@ struct Analytic {
   }
   static InertialRates Rates(double t) {
     InertialRates r;
-    r.omega_body = so3::Exp(Phi(t)).conjugate() * Vec3(0, 0, 0.3) +
-                   so3::RightJacobian(Phi(t)) * PhiDot(t);
+    r.omega_body =
+        so3::Exp(Phi(t)).conjugate() * Vec3(0, 0, 0.3) + so3::RightJacobian(Phi(t)) * PhiDot(t);
     r.specific_force_body = Rotation(t).conjugate() * (Acceleration(t) - kGravityWorld);
     return r;
   }

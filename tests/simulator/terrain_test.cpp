@@ -56,8 +56,8 @@ TEST(Terrain, FitsASmoothHillOnTheRoads) {
       const double h = 1e-3;
       const Vec2 g_true((Hill(p.x() + h, p.y()) - Hill(p.x() - h, p.y())) / (2 * h),
                         (Hill(p.x(), p.y() + h) - Hill(p.x(), p.y() - h)) / (2 * h));
-      max_grade_err = std::max(max_grade_err, (t.Evaluate(p.x(), p.y(), 1).gradient - g_true)
-                                                  .lpNorm<Eigen::Infinity>());
+      max_grade_err = std::max(
+          max_grade_err, (t.Evaluate(p.x(), p.y(), 1).gradient - g_true).lpNorm<Eigen::Infinity>());
     }
   }
   RecordProperty("max_height_error_m", std::to_string(max_err));
@@ -113,9 +113,7 @@ TEST(Terrain, FarFromTheRoadsItReturnsToTheBaseHeight) {
   EXPECT_EQ(s.gradient, Vec2::Zero());
 }
 
-TEST(Terrain, RejectsEmptyInput) {
-  EXPECT_THROW(Terrain::Fit({}), InputError);
-}
+TEST(Terrain, RejectsEmptyInput) { EXPECT_THROW(Terrain::Fit({}), InputError); }
 
 }  // namespace
 }  // namespace statebench::sim

@@ -13,8 +13,8 @@ namespace {
 
 VehicleParams LoadVehicle(const std::string& name) {
   const char* root = std::getenv("STATEBENCH_SOURCE_DIR");
-  return LoadVehicleParamsFile(std::filesystem::path(root ? root : ".") / "scenarios" /
-                               "vehicles" / (name + ".yaml"));
+  return LoadVehicleParamsFile(std::filesystem::path(root ? root : ".") / "scenarios" / "vehicles" /
+                               (name + ".yaml"));
 }
 
 VehicleModel FlatModel(const VehicleParams& params) {
@@ -53,8 +53,7 @@ double SteadyCircleRadius(const VehicleModel& model, double steer_rad, double sp
   const double h = 1e-3;
   for (int k = 0; k < 40000; ++k) {
     // Speed hold: force = resistance + the drag of the lateral tyre forces, by feedback.
-    const VehicleCommand cmd{steer_rad, model.Resistance(x.u_mps) +
-                                            2000.0 * (speed_mps - x.u_mps) +
+    const VehicleCommand cmd{steer_rad, model.Resistance(x.u_mps) + 2000.0 * (speed_mps - x.u_mps) +
                                             model.params().mass_kg * -x.yaw_rate_radps * x.w_mps};
     x = Rk4(model, x, cmd, h);
     if (k >= 20000 && k % 10 == 0) {
@@ -104,7 +103,8 @@ TEST(VehicleModel, DynamicRegimeUndersteersAsTheLinearTheoryPredicts) {
   const double l = params.wheelbase_m();
   const double k_us = params.mass_kg *
                       (params.cg_to_rear_axle_m / params.cornering_stiffness_front_npr -
-                       params.cg_to_front_axle_m / params.cornering_stiffness_rear_npr) / l;
+                       params.cg_to_front_axle_m / params.cornering_stiffness_rear_npr) /
+                      l;
   ASSERT_GT(k_us, 0.0);
   const double predicted = (l + k_us * speed * speed) / steer;
   RecordProperty("radius_m", std::to_string(radius));

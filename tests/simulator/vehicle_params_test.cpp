@@ -116,7 +116,8 @@ TEST(VehicleParams, UnknownKeyIsRejected) {
 TEST(VehicleParams, UnknownKindAndDriveAreRejected) {
   const std::string base = ReadText(VehicleFile("shuttle"));
   std::string msg = ErrorOf([&] {
-    LoadVehicleParams(YamlNode::LoadString(Replace(base, "kind: shuttle", "kind: truck"), "s.yaml"));
+    LoadVehicleParams(
+        YamlNode::LoadString(Replace(base, "kind: shuttle", "kind: truck"), "s.yaml"));
   });
   EXPECT_NE(msg.find("'kind'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("truck"), std::string::npos) << msg;
@@ -130,17 +131,18 @@ TEST(VehicleParams, PhysicallyImpossibleValuesAreRejected) {
   const std::string base = ReadText(VehicleFile("quadricycle"));
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"mass_kg: 560.0", "mass_kg: -560.0"},
-      {"track_width_m: 1.09", "track_width_m: 1.5"},          // wider than the body
+      {"track_width_m: 1.09", "track_width_m: 1.5"},                  // wider than the body
       {"max_acceleration_mps2: 2.0", "max_acceleration_mps2: 12.0"},  // above mu g
-      {"cg_height_m: 0.50", "cg_height_m: 2.0"},              // above the roof
+      {"cg_height_m: 0.50", "cg_height_m: 2.0"},                      // above the roof
       {"steering_time_constant_s: 0.08", "steering_time_constant_s: 0.001"},
-      {"length_m: 2.34", "length_m: 1.5"},                    // shorter than the wheelbase
+      {"length_m: 2.34", "length_m: 1.5"},  // shorter than the wheelbase
       {"yaw_inertia_kgm2: 350.0", "yaw_inertia_kgm2: 90000.0"},
   };
   for (const auto& [from, to] : cases) {
     const std::string field = to.substr(0, to.find(':'));
     const std::string text = Replace(base, from, to);
-    const std::string msg = ErrorOf([&] { LoadVehicleParams(YamlNode::LoadString(text, "q.yaml")); });
+    const std::string msg =
+        ErrorOf([&] { LoadVehicleParams(YamlNode::LoadString(text, "q.yaml")); });
     EXPECT_NE(msg.find(field + "'"), std::string::npos) << to << " -> " << msg;
     EXPECT_NE(msg.find("q.yaml:" + std::to_string(LineContaining(text, to)) + ":"),
               std::string::npos)

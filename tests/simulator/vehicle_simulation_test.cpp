@@ -18,8 +18,8 @@ namespace {
 
 VehicleParams LoadVehicle(const std::string& name) {
   const char* root = std::getenv("STATEBENCH_SOURCE_DIR");
-  return LoadVehicleParamsFile(std::filesystem::path(root ? root : ".") / "scenarios" /
-                               "vehicles" / (name + ".yaml"));
+  return LoadVehicleParamsFile(std::filesystem::path(root ? root : ".") / "scenarios" / "vehicles" /
+                               (name + ".yaml"));
 }
 
 std::string Figure(double v) {
@@ -46,7 +46,7 @@ struct Drive {
   std::vector<TruthSample> truth;  // every ms up to keep_truth_s
   double lateral_rms_m = 0.0;      // from the smoothed path the tracker follows
   double lateral_max_m = 0.0;
-  double raw_rms_m = 0.0;          // from SUMO's raw lane polyline
+  double raw_rms_m = 0.0;  // from SUMO's raw lane polyline
   double max_lateral_accel_mps2 = 0.0;
   double max_yaw_rate_times_speed = 0.0;
   double max_yaw_accel_radps2 = 0.0;
@@ -114,9 +114,9 @@ PoseError StrapdownError(const std::vector<FrameKinematics>& frame) {
                                frame.front().T_world_frame.translation(), frame.front().v_world};
   const StrapdownState end = IntegrateStrapdown(initial, rates, 1e-3).back();
   const SE3& truth = frame.back().T_world_frame;
-  return {(end.p_world - truth.translation()).norm(),
-          so3::Log(truth.rotation().conjugate() * end.q_world_body).norm() * 180.0 /
-              std::numbers::pi};
+  return {
+      (end.p_world - truth.translation()).norm(),
+      so3::Log(truth.rotation().conjugate() * end.q_world_body).norm() * 180.0 / std::numbers::pi};
 }
 
 class VehicleSimulationTest : public ::testing::Test {
@@ -215,8 +215,10 @@ TEST(VehicleSimulation, SameInputsSameBits) {
                           y.body.T_world_frame.rotation().coeffs().data(), sizeof(double) * 4),
               0);
     ASSERT_EQ(std::memcmp(x.body.a_world.data(), y.body.a_world.data(), sizeof(double) * 3), 0);
-    ASSERT_EQ(std::memcmp(x.body.alpha_frame.data(), y.body.alpha_frame.data(), sizeof(double) * 3), 0);
-    ASSERT_EQ(std::memcmp(x.wheel_omega_radps.data(), y.wheel_omega_radps.data(), sizeof(double) * 4), 0);
+    ASSERT_EQ(std::memcmp(x.body.alpha_frame.data(), y.body.alpha_frame.data(), sizeof(double) * 3),
+              0);
+    ASSERT_EQ(
+        std::memcmp(x.wheel_omega_radps.data(), y.wheel_omega_radps.data(), sizeof(double) * 4), 0);
   }
 }
 
@@ -238,7 +240,8 @@ TEST(VehicleSimulation, TruthAtRestAndOnAStraight) {
   EXPECT_EQ(t.t_ns, 8 * kNsPerSecond);
   EXPECT_NEAR(t.body.v_world.x(), 10.0, 0.01);
   EXPECT_NEAR(std::abs(sim.projection().lateral_m), 0.0, 1e-6);
-  for (double w : t.wheel_omega_radps) EXPECT_NEAR(w, t.body.v_world.x() / params.wheel_radius_m, 1e-6);
+  for (double w : t.wheel_omega_radps)
+    EXPECT_NEAR(w, t.body.v_world.x() / params.wheel_radius_m, 1e-6);
   EXPECT_NEAR(t.distance_m, sim.projection().s_m - 10.0, 1e-6);
   EXPECT_NEAR(t.distance_m, 50.0, 0.05);
   EXPECT_NEAR(sim.projection().s_m, sim.reference().s_m, 0.05);
