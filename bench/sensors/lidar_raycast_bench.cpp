@@ -1,0 +1,140 @@
+// Bullet raycast throughput of the lidar simulation: one Hesai XT32 sweep (64,000 beams) from a
+// moving vehicle in an urban grid (a few hundred buildings, kerbs, poles, trees, parked cars and
+// moving traffic), on 1 and 2 TBB threads. Reported as rays/s (all beams cast, hits or not).
+// For reference, the same beams through Bullet's stock btCollisionWorld::rayTest with a
+// ClosestRayResultCallback (single thread: that path is not thread-safe in Debian's Bullet).
+#include <benchmark/benchmark.h>
+#include <btBulletCollisionCommon.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <memory>
+
+#include "sensors/lidar_simulator.hpp"
+#include "sensors/synthetic_roads.hpp"
+
+namespace statebench::sensors {
+namespace {
+
+double Terrain(double x, double y) { return 0.01 * x + 2.0 * std::sin(0.004 * y); }
+
+struct UrbanScene {
+  std::unique_ptr<LidarWorld> world;
+  std::unique_ptr<LidarSimulator> lidar;
+  int buildings = 0;
+  std::size_t vehicles = 0;
+
+  UrbanScene() {
+    const RoadGeometry roads = MakeGridRoads(5, 5, 120.0, 2, 3.5, Terrain);
+    WorldLayoutOptions layout;
+    layout.seed = 1;
+    layout.buildings.probability = 0.95;
+    layout.buildings.facade_min_m = 12.0;
+    layout.buildings.facade_max_m = 30.0;
+    layout.buildings.gap_min_m = 1.0;
+    layout.buildings.gap_max_m = 5.0;
+    layout.buildings.height_min_m = 8.0;
+    layout.buildings.height_max_m = 30.0;
+    world = LidarWorld::Build(roads, Terrain, layout);
+    for (const WorldBox& b : world->layout().boxes) {
+      buildings += b.material == SurfaceMaterial::kBuilding ? 1 : 0;
+    }
+    // Traffic: 4 vehicles per street lane group driving at 8-14 m/s, SUMO steps of 100 ms.
+    std::vector<TrafficFrame> frames;
+    for (int k = 0; k <= 30; ++k) {
+      TrafficFrame f{TimeNs{k} * 100'000'000, {}};
+      for (std::size_t lane = 0; lane < roads.lanes.size(); lane += 3) {
+        const auto& c = roads.lanes[lane].centre;
+        const Vec3 dir = (c.back() - c.front()).normalized();
+        const double speed = 8.0 + static_cast<double>(lane % 7);
+        TrafficBox box;
+        box.id = "veh" + std::to_string(lane);
+        box.centre_world = c.front() + (10.0 + 0.1 * k * speed) * dir + Vec3(0.0, 0.0, 0.75);
+        box.yaw_rad = std::atan2(dir.y(), dir.x());
+        f.boxes.push_back(box);
+      }
+      frames.push_back(f);
+    }
+    vehicles = frames.front().boxes.size();
+    world->SetTraffic(TrafficTimeline(frames));
+    LidarModelValues v;
+    v.model = "hesai_xt32";
+    v.sensor_id = "roof";
+    lidar = std::make_unique<LidarSimulator>(*world, MakeLidarModelParams(v, "bench"), 1);
+  }
+};
+
+const UrbanScene& Scene() {
+  static const UrbanScene scene;
+  return scene;
+}
+
+// Driving east along the street y = -5.25 at 10 m/s with a gentle yaw rate.
+SE3 Pose(TimeNs t_ns) {
+  const double t = ToSeconds(t_ns);
+  const double x = 200.0 + 10.0 * t;
+  return SE3(Quat(Eigen::AngleAxisd(0.02 * std::sin(t), Vec3::UnitZ())),
+             Vec3(x, 120.0 - 5.25, Terrain(x, 114.75) + 1.9));
+}
+
+void BM_Xt32UrbanScan(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(state.range(0)));
+  std::uint64_t scan_index = 0;
+  std::size_t points = 0;
+  for (auto _ : state) {
+    const LidarScan scan = scene.lidar->SimulateScan(
+        Pose, static_cast<TimeNs>(scan_index % 20) * 100'000'000, scan_index);
+    points = scan.points->size();
+    benchmark::DoNotOptimize(scan.points->data());
+    ++scan_index;
+  }
+  const double rays = static_cast<double>(scene.lidar->rays_per_scan());
+  state.counters["rays_per_s"] = benchmark::Counter(rays * static_cast<double>(state.iterations()),
+                                                    benchmark::Counter::kIsRate);
+  state.counters["rays_per_s_per_thread"] = benchmark::Counter(
+      rays * static_cast<double>(state.iterations()) / static_cast<double>(state.range(0)),
+      benchmark::Counter::kIsRate);
+  state.counters["points_per_scan"] = static_cast<double>(points);
+  state.counters["buildings"] = scene.buildings;
+  state.counters["vehicles"] = static_cast<double>(scene.vehicles);
+  state.counters["triangles"] = static_cast<double>(scene.world->triangle_count());
+}
+BENCHMARK(BM_Xt32UrbanScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Stock Bullet path, static world only, one thread.
+void BM_Xt32UrbanScanStockRayTest(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  auto& world = const_cast<LidarWorld&>(*scene.world).collision_world();
+  const Vec3 shift = scene.world->bullet_origin_world();
+  const LidarBeamModel& beams = scene.lidar->params().beams;
+  const double max_range = scene.lidar->params().max_range_m;
+  std::size_t hits = 0;
+  for (auto _ : state) {
+    hits = 0;
+    for (int c = 0; c < beams.columns; ++c) {
+      const SE3 T = Pose(beams.ColumnOffsetNs(c));
+      const Vec3 from = T.translation() - shift;
+      for (int r = 0; r < beams.channels(); ++r) {
+        const Vec3 to = from + max_range * (T.rotation() * beams.Direction(c, r));
+        const btVector3 a(static_cast<btScalar>(from.x()), static_cast<btScalar>(from.y()),
+                          static_cast<btScalar>(from.z()));
+        const btVector3 b(static_cast<btScalar>(to.x()), static_cast<btScalar>(to.y()),
+                          static_cast<btScalar>(to.z()));
+        btCollisionWorld::ClosestRayResultCallback callback(a, b);
+        world.rayTest(a, b, callback);
+        hits += callback.hasHit() ? 1 : 0;
+      }
+    }
+    benchmark::DoNotOptimize(hits);
+  }
+  const double rays = static_cast<double>(beams.columns * beams.channels());
+  state.counters["rays_per_s"] = benchmark::Counter(rays * static_cast<double>(state.iterations()),
+                                                    benchmark::Counter::kIsRate);
+  state.counters["hits_per_scan"] = static_cast<double>(hits);
+}
+BENCHMARK(BM_Xt32UrbanScanStockRayTest)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace statebench::sensors

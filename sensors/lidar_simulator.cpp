@@ -1,0 +1,126 @@
+#include "sensors/lidar_simulator.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/random.hpp"
+#include "sensors/traffic_window.hpp"
+
+namespace statebench::sensors {
+namespace {
+
+constexpr double kReferenceReflectivity = 0.1;  // range_at_10pct_m refers to a 10 % target
+
+}  // namespace
+
+LidarSimulator::LidarSimulator(const LidarWorld& world, LidarModelParams params, std::uint64_t seed)
+    : world_(world), params_(std::move(params)), seed_(seed) {
+  const LidarBeamModel& beams = params_.beams;
+  directions_lidar_.reserve(static_cast<std::size_t>(beams.columns) * beams.channels());
+  for (int c = 0; c < beams.columns; ++c) {
+    for (int r = 0; r < beams.channels(); ++r) directions_lidar_.push_back(beams.Direction(c, r));
+  }
+}
+
+LidarScan LidarSimulator::SimulateScanFromBody(const PoseFunction& T_world_body, TimeNs t_start_ns,
+                                               std::uint64_t scan_index) const {
+  const SE3 T_body_lidar = params_.T_body_lidar;
+  return SimulateScan([&](TimeNs t) { return T_world_body(t) * T_body_lidar; }, t_start_ns,
+                      scan_index);
+}
+
+LidarScan LidarSimulator::SimulateScan(const PoseFunction& T_world_lidar, TimeNs t_start_ns,
+                                       std::uint64_t scan_index) const {
+  const LidarBeamModel& beams = params_.beams;
+  const int columns = beams.columns;
+
+  // 1. Firing times and exact poses, on this thread (the pose callback need not be thread-safe).
+  Sweep sweep;
+  sweep.t_start_ns = t_start_ns;
+  sweep.stream = params_.sensor_id + "/scan/" + std::to_string(scan_index);
+  sweep.t_column.resize(static_cast<std::size_t>(columns));
+  sweep.T_world_column.resize(static_cast<std::size_t>(columns));
+  Eigen::AlignedBox3d reach;  // where the beams can go during the sweep
+  for (int c = 0; c < columns; ++c) {
+    sweep.t_column[c] = t_start_ns + beams.ColumnOffsetNs(c);
+    sweep.T_world_column[c] = T_world_lidar(sweep.t_column[c]);
+    reach.extend(sweep.T_world_column[c].translation());
+  }
+  reach.min() -= Vec3::Constant(params_.max_range_m);
+  reach.max() += Vec3::Constant(params_.max_range_m);
+  const TrafficWindow traffic(world_.traffic(), t_start_ns, sweep.t_column.back(), reach);
+
+  // 2. Fixed blocks of columns in parallel, each with its own random stream; 3. concatenated in
+  // block order.
+  const int blocks = (columns + kColumnsPerBlock - 1) / kColumnsPerBlock;
+  std::vector<std::vector<LidarPoint>> block_points(static_cast<std::size_t>(blocks));
+  tbb::parallel_for(0, blocks, [&](int b) {
+    SimulateBlock(sweep, traffic, b * kColumnsPerBlock,
+                  std::min(columns, (b + 1) * kColumnsPerBlock), b, &block_points[b]);
+  });
+  auto points = std::make_shared<std::vector<LidarPoint>>();
+  std::size_t total = 0;
+  for (const auto& bp : block_points) total += bp.size();
+  points->reserve(total);
+  for (const auto& bp : block_points) points->insert(points->end(), bp.begin(), bp.end());
+
+  LidarScan scan;
+  scan.header.sensor_id = params_.sensor_id;
+  scan.header.stamp_ns = t_start_ns;
+  scan.header.arrival_ns = t_start_ns + beams.PeriodNs() + params_.latency_ns;
+  scan.points = std::move(points);
+  return scan;
+}
+
+void LidarSimulator::SimulateBlock(const Sweep& sweep, const TrafficWindow& traffic,
+                                   int column_begin, int column_end, int block,
+                                   std::vector<LidarPoint>* out) const {
+  const int channels = params_.beams.channels();
+  const double max_range = params_.max_range_m;
+  std::mt19937_64 rng = MakeRng(seed_, sweep.stream + "/block/" + std::to_string(block));
+  NormalSampler normal;
+  out->reserve(static_cast<std::size_t>(column_end - column_begin) * channels);
+  for (int c = column_begin; c < column_end; ++c) {
+    const SE3& T = sweep.T_world_column[c];
+    const Vec3& origin = T.translation();
+    const float t_rel = static_cast<float>(ToSeconds(sweep.t_column[c] - sweep.t_start_ns));
+    for (int ring = 0; ring < channels; ++ring) {
+      // Exact hit: static world, then traffic at this column's firing time in front of it.
+      const Vec3& d_lidar = directions_lidar_[static_cast<std::size_t>(c) * channels + ring];
+      const Vec3 d_world = T.rotation() * d_lidar;
+      std::optional<RayHit> hit = world_.CastStatic(origin, d_world, max_range);
+      if (auto car =
+              traffic.Cast(origin, d_world, hit ? hit->range_m : max_range, sweep.t_column[c])) {
+        hit = car;
+      }
+      if (!hit || hit->range_m < params_.min_range_m) continue;
+
+      // Error model: detection limit, dropout, range noise.
+      const double rho = Reflectivity(hit->material);
+      const double cos_incidence = std::abs(hit->normal_world.dot(d_world));
+      if (params_.range_at_10pct_m > 0.0 &&
+          hit->range_m >
+              params_.range_at_10pct_m * std::sqrt(rho * cos_incidence / kReferenceReflectivity)) {
+        continue;
+      }
+      const double u = Uniform01(rng);
+      const double noise = params_.range_noise_sigma_m * normal(rng);
+      if (u < params_.dropout_probability) continue;
+      const Vec3 p = (hit->range_m + noise) * d_lidar;
+      LidarPoint point;
+      point.x = static_cast<float>(p.x());
+      point.y = static_cast<float>(p.y());
+      point.z = static_cast<float>(p.z());
+      point.intensity = static_cast<float>(100.0 * rho * cos_incidence);
+      point.t = t_rel;
+      point.ring = static_cast<std::uint16_t>(ring);
+      out->push_back(point);
+    }
+  }
+}
+
+}  // namespace statebench::sensors
