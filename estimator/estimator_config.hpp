@@ -1,0 +1,129 @@
+// Estimator configuration: what the estimator reads from a sensor-setup YAML, and its own options
+// YAML. Formats in docs/estimator-config.md.
+//
+// Sensor setup (docs/sensor-setup.md, the simulator's files): the estimator reads each sensor's
+// type, id and T_body_sensor and ignores the simulation parameters. It works in the IMU frame:
+//   T_imu_sensor = T_body_imu^-1 T_body_sensor.
+// A sensor entry may carry an `estimator:` block overriding noise for that sensor (IMU noise
+// densities; GNSS covariance scale and floor). Two GNSS antennas and no `dual_antenna_headings`
+// entry: they are paired (first listed = main) and fixes of the same stamp give a heading.
+//
+// Options: smoother window, states per IMU sample, solve rate, reorder latency, gates, robust
+// kernels, initialisation, priors; every field optional with defaults that serve every setup
+// (scenarios/estimators/factor_graph.yaml lists them).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/eigen_types.hpp"
+#include "core/geodetic.hpp"
+#include "core/se3.hpp"
+#include "core/yaml_node.hpp"
+#include "estimator/imu_noise.hpp"
+#include "estimator/robust_kernel.hpp"
+
+namespace statebench::est {
+
+enum class SensorKind { kImu, kGnss, kWheelEncoders, kSpeedEncoder, kSteeringEncoder, kLidar };
+
+struct EstimatorSensor {
+  std::string id;
+  SensorKind kind = SensorKind::kImu;
+  SE3 T_body_sensor;
+  SE3 T_imu_sensor;
+};
+
+struct GnssAntenna {
+  std::string id;
+  Vec3 p_imu_antenna = Vec3::Zero();
+  double covariance_scale = 1.0;  // reported covariance multiplied by this ...
+  double min_sigma_m = 0.0;       // ... and its eigenvalues floored at min_sigma_m^2
+};
+
+struct DualAntennaPair {
+  std::string heading_id;  // sensor id of DualAntennaHeading measurements; empty: paired fixes
+  std::string main;        // baseline main -> aux
+  std::string aux;
+  Vec3 p_imu_main = Vec3::Zero();
+  Vec3 p_imu_aux = Vec3::Zero();
+};
+
+struct EstimatorSensorSetup {
+  std::string source;  // file the setup came from
+  std::string name;
+  std::string imu_id;
+  SE3 T_body_imu;
+  std::optional<ImuNoise> imu_noise;     // the IMU entry's estimator override, over the options'
+  std::vector<EstimatorSensor> sensors;  // every sensor, file order
+  std::vector<GnssAntenna> antennas;
+  std::vector<DualAntennaPair> dual_antennas;
+
+  const EstimatorSensor* Find(const std::string& id) const;
+  const GnssAntenna* FindAntenna(const std::string& id) const;
+  const DualAntennaPair* FindHeading(const std::string& heading_id) const;
+};
+
+// InputError naming file:line:column and field on: unknown sensor type, missing or duplicate id,
+// no IMU or more than one, bad transform, unknown key in an `estimator:` block, a dual-antenna
+// entry naming a sensor that is not a GNSS antenna.
+EstimatorSensorSetup LoadEstimatorSensorSetup(const std::filesystem::path& path);
+EstimatorSensorSetup ParseEstimatorSensorSetup(const YamlNode& root);
+
+enum class InitializationMode { kAuto, kStatic, kMoving };
+
+struct InitializationOptions {
+  // kStatic: wait for a still period; kMoving: do not wait for one; kAuto: whichever comes
+  // first (static alignment if the vehicle is still, GNSS course or dual antenna if moving).
+  InitializationMode mode = InitializationMode::kAuto;
+  double static_duration_s = 1.0;           // still period averaged for gravity and gyro bias
+  double static_max_gyro_std_radps = 0.01;  // per axis, over the still period
+  double static_max_accel_std_mps2 = 0.1;   // per axis
+  double course_min_distance_m = 5.0;       // GNSS displacement that defines the course
+  // Prior sigmas of the first state where no measurement gives them.
+  double roll_pitch_sigma_rad = 0.02;  // static alignment (accel bias / g ~ 0.01 rad)
+  double moving_roll_pitch_sigma_rad = 0.05;
+  double course_yaw_sigma_rad = 0.1;  // yaw from the GNSS course (slip, chord vs tangent)
+  double static_velocity_sigma_mps = 0.02;
+  double moving_velocity_sigma_mps = 0.5;
+  double gyro_bias_sigma_radps = 0.01;  // when not measured in a still period
+  double accel_bias_sigma_mps2 = 0.1;
+};
+
+struct MeasurementGateOptions {
+  // Paper: discard measurements whose reported uncertainty exceeds a threshold (sqrt of the
+  // largest covariance eigenvalue, m for GNSS, rad for headings).
+  double max_sigma = 5.0;
+  // Mahalanobis gate: squared innovation norm over (H P H^T + R) above this is rejected.
+  double gate_chi2 = 16.27;  // chi-square(3) at p = 0.999
+  // After this long without an accepted measurement of the kind (but with rejected ones), the
+  // gate lets the next one through (recovery after a divergence); the kernel still applies.
+  double gate_reset_s = 10.0;
+  RobustKernel kernel;
+};
+
+struct FactorGraphOptions {
+  double window_s = 1.0;
+  int imu_samples_per_state = 10;  // 1: a state per IMU sample (paper); N: keyframes
+  double solve_interval_s = 0.1;
+  // Every measurement is held until the IMU is this far past its stamp and then fed to the
+  // smoother in stamp order, so delivery order does not change the result (delays up to this).
+  double reorder_latency_s = 0.5;
+  int max_iterations = 10;
+  int num_threads = 1;
+  std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
+  ImuNoise imu_noise;
+  InitializationOptions initialization;
+  MeasurementGateOptions gnss;                                       // defaults above
+  MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
+
+  bool IsValid(std::string* why = nullptr) const;
+};
+
+// Every key optional; unknown keys and invalid values are InputErrors naming file:line.
+FactorGraphOptions LoadFactorGraphOptions(const std::filesystem::path& path);
+FactorGraphOptions ParseFactorGraphOptions(const YamlNode& root);
+
+}  // namespace statebench::est

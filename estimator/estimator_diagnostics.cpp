@@ -1,0 +1,41 @@
+#include "estimator/estimator_diagnostics.hpp"
+
+namespace statebench::est {
+
+std::string_view RejectReasonName(RejectReason reason) {
+  switch (reason) {
+    case RejectReason::kNonFinite:
+      return "non_finite";
+    case RejectReason::kAbsurdValue:
+      return "absurd_value";
+    case RejectReason::kStampBackwards:
+      return "stamp_backwards";
+    case RejectReason::kStampInFuture:
+      return "stamp_in_future";
+    case RejectReason::kUnknownSensor:
+      return "unknown_sensor";
+    case RejectReason::kUnsupportedSensor:
+      return "unsupported_sensor";
+    case RejectReason::kNoFix:
+      return "no_fix";
+    case RejectReason::kInvalidCovariance:
+      return "invalid_covariance";
+    case RejectReason::kCovarianceThreshold:
+      return "covariance_threshold";
+    case RejectReason::kMahalanobisGate:
+      return "mahalanobis_gate";
+    case RejectReason::kTooOld:
+      return "too_old";
+    case RejectReason::kNotInitialized:
+      return "not_initialized";
+  }
+  return "unknown";
+}
+
+std::uint64_t SensorCounters::TotalRejected() const {
+  std::uint64_t n = 0;
+  for (const auto& [reason, count] : rejected) n += count;
+  return n;
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,61 @@
+// What an estimator reports about itself: per update (solve time, iterations, factors by type)
+// and per sensor (measurements accepted, rejected by reason, down-weighted by a robust kernel).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/time.hpp"
+
+namespace statebench::est {
+
+enum class RejectReason {
+  kNonFinite,            // NaN or infinite value
+  kAbsurdValue,          // finite but physically impossible (e.g. 100 g, latitude 91 deg)
+  kStampBackwards,       // IMU stamp not after the previous one, or a repeated stamp of a sensor
+  kStampInFuture,        // stamp far ahead of the newest IMU sample
+  kUnknownSensor,        // sensor id not in the sensor setup (or of the wrong type)
+  kUnsupportedSensor,    // configured, but not used by this estimator (yet): lidar, encoders
+  kNoFix,                // GNSS status "no fix"
+  kInvalidCovariance,    // reported covariance not symmetric positive definite
+  kCovarianceThreshold,  // reported uncertainty above the configured threshold (paper)
+  kMahalanobisGate,      // innovation beyond the chi-square gate
+  kTooOld,               // older than the oldest state the estimator still holds
+  kNotInitialized,       // arrived before initialisation and was not needed for it
+};
+
+std::string_view RejectReasonName(RejectReason reason);
+
+struct SensorCounters {
+  std::uint64_t received = 0;
+  std::uint64_t accepted = 0;
+  std::map<RejectReason, std::uint64_t> rejected;
+  // Accepted measurements whose whitened residual at the final estimate exceeded the robust
+  // kernel's scale (their weight was reduced, not zeroed); counted when they leave the window.
+  std::uint64_t downweighted = 0;
+
+  std::uint64_t TotalRejected() const;
+};
+
+struct UpdateDiagnostics {
+  TimeNs t_ns = 0;            // stamp of the newest state of the update
+  double solve_time_s = 0.0;  // wall clock: optimisation, marginalisation and covariance
+  int iterations = 0;
+  bool usable = false;  // the solver returned a usable solution
+  int num_states = 0;
+  int num_marginalized = 0;
+  std::map<std::string, int> factors;  // by type: "prior", "imu", "bias", "gnss", "heading"
+};
+
+struct EstimatorDiagnostics {
+  bool initialized = false;
+  TimeNs initialized_at_ns = 0;
+  std::string initialization;  // how: "static", "moving (dual antenna)", "moving (gnss course)"
+  std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
+  std::vector<UpdateDiagnostics> updates;
+};
+
+}  // namespace statebench::est

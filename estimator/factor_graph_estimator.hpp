@@ -1,0 +1,62 @@
+// The factor-graph estimator: the Estimator interface on top of SlidingWindowSmoother.
+//
+// Pipeline (each step a named function in the .cpp):
+//  1. Add(): plausibility checks (measurement_checks.hpp), sensor ids from the setup, stamps;
+//     rejections are counted per sensor and reason. Accepted measurements go to a reorder buffer.
+//  2. The reorder buffer releases them in stamp order once the newest IMU sample is
+//     reorder_latency_s past their stamp. The smoother therefore runs reorder_latency_s behind
+//     the IMU on a stream whose order does not depend on the delivery order: any delivery with
+//     delays up to reorder_latency_s gives bit-identical smoothed states.
+//  3. Until initialised, released data feed the StateInitializer (static or moving alignment);
+//     its first state opens the window. The ENU origin is options.origin or the first fix.
+//  4. GNSS fixes of one stamp are grouped: the two antennas of a dual-antenna pair give a heading
+//     (or the receiver's DualAntennaHeading of that stamp is used) plus the main antenna's
+//     position; the aux position is not added as well (its information is in the heading, the
+//     two together would count it twice). Every measurement passes the covariance threshold
+//     (paper), then a Mahalanobis gate against the IMU prediction from the last solve, then goes
+//     into the smoother with the robust kernel.
+//  5. Every solve_interval_s of (lagged) IMU time the window is solved and the states older than
+//     window_s are marginalised; the newest state and its covariance become the anchor.
+//  6. StateAt(t): from the anchor through the buffered IMU samples (mean and covariance,
+//     imu_propagation.hpp) for t at or after the anchor, up to the newest IMU sample: IMU-rate
+//     output. For t inside the window, the smoothed state at or before t carried to t, with the
+//     covariance the estimator had for it when it was the newest (a filtered covariance, an upper
+//     bound of the smoothed one).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geodetic.hpp"
+#include "estimator/estimator.hpp"
+#include "estimator/estimator_config.hpp"
+
+namespace statebench::est {
+
+class FactorGraphEstimator final : public Estimator {
+ public:
+  // Throws InputError if the options are not valid.
+  FactorGraphEstimator(const EstimatorSensorSetup& setup, const FactorGraphOptions& options);
+  ~FactorGraphEstimator() override;
+  FactorGraphEstimator(const FactorGraphEstimator&) = delete;
+  FactorGraphEstimator& operator=(const FactorGraphEstimator&) = delete;
+
+  std::string name() const override { return "factor_graph"; }
+  void Add(const Measurement& measurement) override;
+  std::optional<StateEstimate> StateAt(TimeNs t_ns) const override;
+  EstimatorDiagnostics diagnostics() const override;
+
+  // Smoothed states that left the window since the last call (their final estimates), oldest
+  // first.
+  std::vector<NavState> TakeSmoothedStates();
+  // The ENU origin; nullopt until known.
+  std::optional<GeodeticPoint> origin() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace statebench::est

@@ -1,0 +1,48 @@
+#include "estimator/measurement_checks.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <numbers>
+
+namespace statebench::est {
+
+std::optional<RejectReason> CheckImuSample(const ImuSample& sample) {
+  if (!sample.gyro.allFinite() || !sample.accel.allFinite()) return RejectReason::kNonFinite;
+  if (sample.gyro.cwiseAbs().maxCoeff() > kMaxAbsGyroRadps ||
+      sample.accel.cwiseAbs().maxCoeff() > kMaxAbsAccelMps2) {
+    return RejectReason::kAbsurdValue;
+  }
+  return std::nullopt;
+}
+
+std::optional<RejectReason> CheckGnssFix(const GnssFix& fix) {
+  if (!std::isfinite(fix.latitude_deg) || !std::isfinite(fix.longitude_deg) ||
+      !std::isfinite(fix.altitude_m) || !fix.covariance_enu.allFinite()) {
+    return RejectReason::kNonFinite;
+  }
+  if (std::abs(fix.latitude_deg) > 90.0 || std::abs(fix.longitude_deg) > 180.0 ||
+      fix.altitude_m < -1000.0 || fix.altitude_m > 100000.0) {
+    return RejectReason::kAbsurdValue;
+  }
+  if (fix.status == GnssFixStatus::kNone) return RejectReason::kNoFix;
+  const Mat3& cov = fix.covariance_enu;
+  if ((cov - cov.transpose()).cwiseAbs().maxCoeff() > 1e-9 * cov.cwiseAbs().maxCoeff() ||
+      Eigen::LLT<Mat3>(cov).info() != Eigen::Success) {
+    return RejectReason::kInvalidCovariance;
+  }
+  return std::nullopt;
+}
+
+std::optional<RejectReason> CheckDualAntennaHeading(const DualAntennaHeading& heading) {
+  if (!std::isfinite(heading.yaw_rad) || !std::isfinite(heading.pitch_rad) ||
+      std::isnan(heading.yaw_sigma_rad) || std::isnan(heading.pitch_sigma_rad)) {
+    return RejectReason::kNonFinite;
+  }
+  if (std::abs(heading.pitch_rad) > std::numbers::pi / 2) return RejectReason::kAbsurdValue;
+  if (!(heading.yaw_sigma_rad > 0.0) || !std::isfinite(heading.yaw_sigma_rad)) {
+    return RejectReason::kInvalidCovariance;
+  }
+  return std::nullopt;
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,27 @@
+// Plausibility checks on single measurements, before they reach an estimator's math. Each
+// returns the reason a measurement must be rejected, or nullopt if it is usable. What depends
+// on the estimator's state (stamps, gates, thresholds) is checked by the estimator itself.
+#pragma once
+
+#include <optional>
+
+#include "core/measurements.hpp"
+#include "estimator/estimator_diagnostics.hpp"
+
+namespace statebench::est {
+
+// Beyond the range of any automotive IMU (2000 deg/s, 20 g): absurd.
+inline constexpr double kMaxAbsGyroRadps = 40.0;
+inline constexpr double kMaxAbsAccelMps2 = 200.0;
+
+std::optional<RejectReason> CheckImuSample(const ImuSample& sample);
+
+// Non-finite values; latitude, longitude or altitude out of range (absurd, same limits as
+// GnssFixToEnu); status kNone (no fix); covariance not symmetric positive definite.
+std::optional<RejectReason> CheckGnssFix(const GnssFix& fix);
+
+// Non-finite angles; |pitch| > pi/2 (absurd); yaw sigma not positive (invalid covariance).
+// A non-positive pitch sigma is allowed and means "yaw only".
+std::optional<RejectReason> CheckDualAntennaHeading(const DualAntennaHeading& heading);
+
+}  // namespace statebench::est

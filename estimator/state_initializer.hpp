@@ -1,0 +1,94 @@
+// First state of an estimator from the first seconds of data (stamp-ordered).
+//
+// Attitude = tilt (gravity direction in the IMU frame) + yaw (a horizontal reference direction):
+//  - Tilt, static: over a still period (per-axis std of gyro and accel below thresholds, |f|
+//    near g) the specific force is f = R^T (0, 0, g) + b_a, so the up axis in the IMU frame is
+//    f_mean / |f_mean| (the accel bias tilts it by |b_a| / g) and the gyro bias is the mean rate.
+//  - Tilt, moving: f = R^T (a - g_world); for a vehicle moving along its forward axis at speed s
+//    the acceleration in the IMU frame is about omega x (s forward) (centripetal; the change of
+//    speed is neglected), so up ~ (f - omega x s forward) / |.|, averaged over 0.5 s.
+//  - Yaw: a dual-antenna heading (yaw of the baseline main -> aux) or the GNSS course: the
+//    horizontal chord between two fixes at least course_min_distance_m apart (more if the fixes
+//    are noisy) is parallel to the vehicle's forward axis at about the middle of the chord.
+// The tilt and the yaw reference are taken at different stamps; the gyro (minus the gyro bias
+// estimate) carries both to the initialisation stamp, and the yaw is fixed by a rotation about
+// the world z axis, R = Rz(delta) R_tilt, which keeps the tilt.
+// Position: the newest fix moved to the IMU through the lever arm; velocity: zero if the still
+// period reaches the initialisation stamp, else from two fixes and the IMU displacement between
+// them (exact for any motion once the attitude is known; the accel bias is taken as zero).
+// Covariance: diagonal in roll/pitch/yaw (world frame, mapped to the right perturbation
+// R^T diag(...) R), position from the fix, velocity and biases from the options.
+#pragma once
+
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/eigen_types.hpp"
+#include "core/measurements.hpp"
+#include "core/state.hpp"
+#include "estimator/estimator_config.hpp"
+#include "estimator/gnss_enu.hpp"
+#include "estimator/imu_noise.hpp"
+
+namespace statebench::est {
+
+struct InitialState {
+  NavState state;
+  Mat15 covariance = Mat15::Identity();
+  std::string method;  // "static", "moving (dual antenna)", "moving (gnss course)", ...
+};
+
+class StateInitializer {
+ public:
+  // forward_imu: the vehicle's forward axis (body +x) in the IMU frame.
+  StateInitializer(const InitializationOptions& options, const ImuNoise& noise,
+                   const Vec3& forward_imu);
+
+  // Stamp-ordered input. Samples must have increasing stamps (the caller checked them).
+  void AddImu(const ImuSample& sample);
+  void AddPosition(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
+  void AddHeading(const DualAntennaHeading& heading, const Vec3& baseline_imu);
+
+  // The first state at the newest IMU sample, once tilt, yaw and position are known.
+  std::optional<InitialState> TryInitialize();
+
+ private:
+  struct Tilt {
+    TimeNs t_ns = 0;
+    Vec3 up_imu = Vec3::UnitZ();
+    Vec3 gyro_bias = Vec3::Zero();
+    bool still = false;  // from a still period (else moving)
+  };
+  struct YawReference {
+    TimeNs t_ns = 0;
+    Vec3 direction_imu = Vec3::UnitX();
+    double yaw_rad = 0.0;
+    double sigma_rad = 0.0;
+    double speed_mps = 0.0;
+    std::string method;
+  };
+  struct Fix {
+    GnssPositionEnu fix;
+    Vec3 p_imu_antenna;
+  };
+
+  void UpdateStill();
+  std::optional<YawReference> CourseReference() const;
+  std::optional<Tilt> MovingTilt(TimeNs t_ns, double speed_mps) const;
+  Quat GyroDelta(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;
+  double SpeedEstimate() const;
+  // The latest fix at least a velocity baseline before the newest one (not before t_min_ns).
+  const Fix* VelocityPartner(TimeNs t_min_ns) const;
+
+  InitializationOptions options_;
+  ImuNoise noise_;
+  Vec3 forward_imu_;
+  std::vector<ImuSample> imu_;
+  std::deque<Fix> fixes_;
+  std::optional<Tilt> still_;            // latest still period
+  std::optional<YawReference> heading_;  // latest dual-antenna heading
+};
+
+}  // namespace statebench::est
