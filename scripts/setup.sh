@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev libyaml-cpp-dev libceres-dev libgeographiclib-dev libtbb-dev
-  libbullet-dev libpcl-dev libsqlite3-dev
+  libbullet-dev libpcl-dev libsqlite3-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   sumo sumo-tools
 )

@@ -47,7 +47,9 @@ void VehicleSimulation::Reset(double s_raw_m, double v_mps, TimeNs t_ns) {
   state_.force_n =
       model_.Resistance(v_mps) - model_.params().mass_kg * model_.SlopeGravity(state_).x();
   t_ns_ = t_ns;
-  projection_ = path_->Project(at.position);
+  // Project near s: a route driven in loops overlaps itself, and a global search could pick
+  // the same place on another lap.
+  projection_ = path_->Project(at.position, path_->HintAt(mapped.s_m));
   reference_ = SpeedReference{mapped.s_m, v_mps * mapped.ds_draw, 0.0};
 }
 

@@ -1,0 +1,12 @@
+// The statebench subcommands. Each takes its arguments (after the subcommand name) and returns
+// the process exit code: 0 success, 1 failure while running, 2 bad usage or bad input.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace statebench::app {
+
+int RunSimulate(const std::vector<std::string>& args);
+
+}  // namespace statebench::app

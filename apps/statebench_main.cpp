@@ -1,0 +1,32 @@
+// statebench: the command line of the StateBench estimator and test bench.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "apps/commands.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: statebench <command> [args]\n"
+    "commands:\n"
+    "  simulate SCENARIO.yaml --out DIR   exact ground truth of a scenario (SUMO + vehicle model)\n"
+    "Run 'statebench <command> --help' for a command's options.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "%s", kUsage);
+    return 2;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (command == "simulate") return statebench::app::RunSimulate(args);
+  if (command == "--help" || command == "help" || command == "-h") {
+    std::printf("%s", kUsage);
+    return 0;
+  }
+  std::fprintf(stderr, "statebench: unknown command '%s'\n%s", command.c_str(), kUsage);
+  return 2;
+}
