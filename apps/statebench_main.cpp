@@ -1,5 +1,6 @@
 // statebench: the command line of the StateBench estimator and test bench.
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,10 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Vehicle and sensor-setup files named in a scenario are also looked up in the source tree's
+  // scenarios/ folder, so scenarios kept elsewhere can name the stock vehicles.
+  setenv("STATEBENCH_SOURCE_DIR", STATEBENCH_DEFAULT_SOURCE_DIR, /*overwrite=*/0);
+  setenv("SUMO_HOME", "/usr/share/sumo", /*overwrite=*/0);
   if (argc < 2) {
     std::fprintf(stderr, "%s", kUsage);
     return 2;
