@@ -1,5 +1,6 @@
 #include "estimator/estimator_config.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
@@ -169,6 +170,8 @@ void ParseDualAntenna(const YamlNode& node, EstimatorSensorSetup* setup) {
     (role[0] == 'm' ? pair.p_imu_main : pair.p_imu_aux) = antenna->p_imu_antenna;
   }
   if (pair.main == pair.aux) node["aux"].Fail("must differ from main");
+  pair.latency_s = std::max(setup->Find(pair.main)->latency_s, setup->Find(pair.aux)->latency_s);
+  Read(node, "latency_s", &pair.latency_s, NonNegative);
   if ((pair.p_imu_aux - pair.p_imu_main).norm() < 0.1) {
     node["aux"].Fail("the antennas are less than 0.1 m apart");
   }
@@ -199,6 +202,19 @@ const DualAntennaPair* EstimatorSensorSetup::FindHeading(const std::string& head
   return nullptr;
 }
 
+double EstimatorSensorSetup::MaxMeasurementLatency() const {
+  double latency = 0.0;
+  for (const auto& s : sensors) {
+    if (s.kind == SensorKind::kGnss) latency = std::max(latency, s.latency_s);
+  }
+  for (const auto& p : dual_antennas) latency = std::max(latency, p.latency_s);
+  return latency;
+}
+
+double FactorGraphOptions::ReorderLatency(const EstimatorSensorSetup& setup) const {
+  return reorder_latency_s.value_or(setup.MaxMeasurementLatency() + kReorderMarginS);
+}
+
 EstimatorSensorSetup LoadEstimatorSensorSetup(const std::filesystem::path& path) {
   return ParseEstimatorSensorSetup(YamlNode::LoadFile(path));
 }
@@ -224,6 +240,7 @@ EstimatorSensorSetup ParseEstimatorSensorSetup(const YamlNode& root) {
     if (s.id.empty()) entry["id"].Fail("must not be empty");
     if (setup.Find(s.id) != nullptr) entry["id"].Fail("duplicate sensor id '" + s.id + "'");
     s.T_body_sensor = ParseTransform(entry["T_body_sensor"]);
+    Read(entry, "latency_s", &s.latency_s, NonNegative);
     if (s.kind == SensorKind::kImu) {
       if (has_imu) entry["type"].Fail("a second imu (the estimator uses one)");
       has_imu = true;
@@ -272,7 +289,7 @@ bool FactorGraphOptions::IsValid(std::string* why) const {
   if (!positive(window_s)) return fail("window_s must be positive");
   if (imu_samples_per_state < 1) return fail("imu_samples_per_state must be at least 1");
   if (!positive(solve_interval_s)) return fail("solve_interval_s must be positive");
-  if (!(reorder_latency_s >= 0.0) || !std::isfinite(reorder_latency_s)) {
+  if (reorder_latency_s && (!(*reorder_latency_s >= 0.0) || !std::isfinite(*reorder_latency_s))) {
     return fail("reorder_latency_s must be non-negative");
   }
   if (max_iterations < 1) return fail("max_iterations must be at least 1");
@@ -311,7 +328,13 @@ FactorGraphOptions ParseFactorGraphOptions(const YamlNode& root) {
   Read(root, "window_s", &o.window_s, Positive);
   ReadInt(root, "imu_samples_per_state", 1, &o.imu_samples_per_state);
   Read(root, "solve_interval_s", &o.solve_interval_s, Positive);
-  Read(root, "reorder_latency_s", &o.reorder_latency_s, NonNegative);
+  if (const auto n = root.Find("reorder_latency_s"); n && !n->IsNull()) {
+    if (n->IsScalar() && n->raw().as<std::string>() == "auto") {
+      o.reorder_latency_s.reset();
+    } else {
+      o.reorder_latency_s = NonNegative(*n);
+    }
+  }
   ReadInt(root, "max_iterations", 1, &o.max_iterations);
   ReadInt(root, "num_threads", 1, &o.num_threads);
   if (const auto n = root.Find("origin"); n && !n->IsNull()) o.origin = ParseOrigin(*n);

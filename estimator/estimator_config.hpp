@@ -34,6 +34,7 @@ struct EstimatorSensor {
   SensorKind kind = SensorKind::kImu;
   SE3 T_body_sensor;
   SE3 T_imu_sensor;
+  double latency_s = 0.0;  // arrival - stamp as the setup states it (0 if absent)
 };
 
 struct GnssAntenna {
@@ -49,6 +50,7 @@ struct DualAntennaPair {
   std::string aux;
   Vec3 p_imu_main = Vec3::Zero();
   Vec3 p_imu_aux = Vec3::Zero();
+  double latency_s = 0.0;  // of the heading measurements (0 if absent)
 };
 
 struct EstimatorSensorSetup {
@@ -64,6 +66,8 @@ struct EstimatorSensorSetup {
   const EstimatorSensor* Find(const std::string& id) const;
   const GnssAntenna* FindAntenna(const std::string& id) const;
   const DualAntennaPair* FindHeading(const std::string& heading_id) const;
+  // Largest latency of the sensors the estimator uses (GNSS antennas and headings).
+  double MaxMeasurementLatency() const;
 };
 
 // InputError naming file:line:column and field on: unknown sensor type, missing or duplicate id,
@@ -104,13 +108,17 @@ struct MeasurementGateOptions {
   RobustKernel kernel;
 };
 
+inline constexpr double kReorderMarginS = 0.05;  // jitter allowed on top of the stated latency
+
 struct FactorGraphOptions {
   double window_s = 1.0;
   int imu_samples_per_state = 10;  // 1: a state per IMU sample (paper); N: keyframes
   double solve_interval_s = 0.1;
   // Every measurement is held until the IMU is this far past its stamp and then fed to the
   // smoother in stamp order, so delivery order does not change the result (delays up to this).
-  double reorder_latency_s = 0.5;
+  // The IMU-rate output is an IMU prediction over this span. nullopt ("auto"): the setup's
+  // largest GNSS/heading latency plus kReorderMarginS.
+  std::optional<double> reorder_latency_s;
   int max_iterations = 10;
   int num_threads = 1;
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
@@ -120,6 +128,7 @@ struct FactorGraphOptions {
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
 
   bool IsValid(std::string* why = nullptr) const;
+  double ReorderLatency(const EstimatorSensorSetup& setup) const;
 };
 
 // Every key optional; unknown keys and invalid values are InputErrors naming file:line.

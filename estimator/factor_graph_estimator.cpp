@@ -64,7 +64,7 @@ struct FactorGraphEstimator::Impl {
         smoother(SmootherOptions(s, o)),
         initializer(o.initialization, noise,
                     setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
-        latency_ns(FromSeconds(o.reorder_latency_s)) {
+        latency_ns(FromSeconds(o.ReorderLatency(s))) {
     if (o.origin) frame.emplace(*o.origin);
   }
 

@@ -31,6 +31,9 @@ bool SlidingWindowOptions::IsValid(std::string* why) const {
   if (!(window_s > 0.0) || !std::isfinite(window_s)) return fail("window_s must be positive");
   if (imu_samples_per_state < 1) return fail("imu_samples_per_state must be at least 1");
   if (max_iterations < 1) return fail("max_iterations must be at least 1");
+  if (!(initial_trust_region_radius > 0.0)) {
+    return fail("initial_trust_region_radius must be positive");
+  }
   if (num_threads < 1) return fail("num_threads must be at least 1");
   for (const RobustKernel* k : {&gnss_kernel, &heading_kernel}) {
     if (k->type != RobustKernelType::kNone && (!(k->scale > 0.0) || !std::isfinite(k->scale))) {
@@ -318,6 +321,7 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   options.max_num_iterations = m.options.max_iterations;
+  options.initial_trust_region_radius = m.options.initial_trust_region_radius;
   options.num_threads = m.options.num_threads;
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
