@@ -15,7 +15,7 @@
 // Bullet's BVH only proposes triangles; every candidate is intersected in double precision with
 // the double copy of the mesh, so ranges are exact (~1e-9 m relative), whatever the float
 // geometry. (Bullet's btCollisionWorld::rayTest shares one traversal stack in Debian's build and is
-// not thread-safe; it is also ~3x slower here, see bench/sensors/lidar_raycast_bench.)
+// not thread-safe; it is also ~2.5x slower per CPU-second, see bench/sensors/lidar_raycast_bench.)
 //
 // The mesh is the world: cylinders are prisms, spheres icospheres, the terrain a triangle
 // grid (exact for planar ground, within ~k s^2 / 8 of a smooth h with curvature k and spacing s).
