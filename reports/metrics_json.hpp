@@ -1,0 +1,13 @@
+// JSON form of the metrics (the metrics files written next to every estimate).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "reports/trajectory_metrics.hpp"
+
+namespace statebench::reports {
+
+nlohmann::json ToJson(const ErrorStatistics& s);
+nlohmann::json ToJson(const TrajectoryMetrics& m);
+
+}  // namespace statebench::reports
