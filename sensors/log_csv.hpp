@@ -1,0 +1,36 @@
+// One CSV line of a recorded log per measurement (columns: log_format.hpp, docs/log-format.md).
+// Numbers are written in shortest round-trip form (core/csv.hpp), so parsing a written line gives
+// back the identical measurement, bit for bit.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "core/csv.hpp"
+#include "core/measurements.hpp"
+#include "sensors/log_format.hpp"
+
+namespace statebench::sensors {
+
+// Appends the line (ending in '\n') of a measurement that is not a LidarScan.
+void AppendLogCsvRow(std::string& out, const Measurement& m);
+// Appends the sweep-index line of a lidar scan stored in `pcd_file` (a name in the sensor's
+// folder).
+void AppendLidarIndexRow(std::string& out, const LidarScan& scan, std::string_view pcd_file);
+
+// Columns of the measurement stamp and the arrival stamp in the type's file.
+struct StampColumns {
+  std::size_t stamp = 0;
+  std::size_t arrival = 1;
+};
+StampColumns StampColumnsOf(LogStreamType type);
+
+// Parses a data row of `type` (not lidar) for sensor `id`. Throws InputError naming the file,
+// line and column on a missing or extra value, a non-number, a non-finite number or an unknown
+// status.
+Measurement ParseLogCsvRow(LogStreamType type, const std::string& id, const CsvRow& row);
+
+// Checks the row of a `type` file has exactly the type's columns (throws otherwise).
+void CheckColumnCount(LogStreamType type, const CsvRow& row);
+
+}  // namespace statebench::sensors

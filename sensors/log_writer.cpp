@@ -1,0 +1,169 @@
+#include "sensors/log_writer.hpp"
+
+#include <fstream>
+
+#include "core/error.hpp"
+#include "core/truth_io.hpp"
+#include "sensors/lidar_pcd_io.hpp"
+#include "sensors/log_csv.hpp"
+
+namespace statebench::sensors {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kFlushBytes = 1 << 20;
+
+std::string HeaderLine(LogStreamType type) {
+  std::string line = "#";
+  const auto& columns = LogCsvColumns(type);
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) line += ',';
+    line += columns[i];
+  }
+  return line + "\n";
+}
+
+}  // namespace
+
+struct LogWriter::Stream {
+  LogStreamEntry entry;
+  fs::path path;
+  std::ofstream out;
+  std::string buffer;
+  std::optional<TimeNs> last_stamp_ns;
+  TimeNs last_arrival_ns = 0;
+  std::size_t lidar_points = 0;
+
+  void Flush() {
+    out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    buffer.clear();
+    if (!out) throw InputError(path.string() + ": write failed");
+  }
+};
+
+LogWriter::LogWriter(const fs::path& dir, LogWriterOptions options)
+    : dir_(dir), options_(std::move(options)) {
+  std::error_code ec;
+  if (fs::exists(dir_ / "log.yaml", ec)) {
+    throw InputError(dir_.string() +
+                     ": already holds a log (log.yaml); remove it or choose another directory");
+  }
+  fs::create_directories(dir_, ec);
+  if (ec) throw InputError(dir_.string() + ": cannot create the log directory: " + ec.message());
+  manifest_.scenario = options_.scenario;
+  manifest_.seed = options_.seed;
+  manifest_.origin = options_.origin;
+  if (!options_.setup_yaml.empty()) {
+    std::ofstream setup(dir_ / "setup.yaml", std::ios::binary);
+    setup << options_.setup_yaml;
+    if (!setup) throw InputError((dir_ / "setup.yaml").string() + ": cannot write");
+    manifest_.setup = "setup.yaml";
+  }
+  if (options_.truth_T_body_imu) {
+    truth_ = std::make_unique<TruthWriter>(dir_, *options_.truth_T_body_imu);
+    manifest_.truth_csv = "truth.csv";
+  }
+}
+
+LogWriter::~LogWriter() {
+  if (closed_) return;
+  try {
+    for (auto& s : streams_) s->Flush();
+    if (truth_) truth_->Close();
+  } catch (const std::exception&) {  // a destructor must not throw; Close() reports errors
+  }
+}
+
+LogWriter::Stream& LogWriter::StreamFor(const Measurement& m) {
+  const MeasurementHeader& h = HeaderOf(m);
+  const LogStreamType type = StreamTypeOf(m);
+  if (const auto it = by_id_.find(h.sensor_id); it != by_id_.end()) {
+    if (it->second->entry.type != type) {
+      throw InputError("log: sensor '" + h.sensor_id + "' gave a " +
+                       std::string(LogStreamTypeName(type)) + " after " +
+                       std::string(LogStreamTypeName(it->second->entry.type)) + " measurements");
+    }
+    return *it->second;
+  }
+  if (h.sensor_id.empty() || h.sensor_id.find_first_of("/\\") != std::string::npos ||
+      h.sensor_id == "." || h.sensor_id == "..") {
+    throw InputError("log: sensor id '" + h.sensor_id + "' cannot name a file");
+  }
+  auto s = std::make_unique<Stream>();
+  s->entry.id = h.sensor_id;
+  s->entry.type = type;
+  const fs::path folder(LogStreamFolder(type));
+  s->entry.file = (folder / (h.sensor_id + ".csv")).generic_string();
+  s->path = dir_ / s->entry.file;
+  std::error_code ec;
+  fs::create_directories(s->path.parent_path(), ec);
+  if (type == LogStreamType::kLidar) fs::create_directories(dir_ / folder / h.sensor_id, ec);
+  if (ec) throw InputError(s->path.parent_path().string() + ": cannot create: " + ec.message());
+  s->out.open(s->path, std::ios::binary | std::ios::trunc);
+  if (!s->out) throw InputError(s->path.string() + ": cannot create");
+  s->buffer = HeaderLine(type);
+  Stream& ref = *s;
+  by_id_[h.sensor_id] = s.get();
+  streams_.push_back(std::move(s));
+  return ref;
+}
+
+void LogWriter::Write(const Measurement& m) {
+  Stream& s = StreamFor(m);
+  const MeasurementHeader& h = HeaderOf(m);
+  if (s.last_stamp_ns && (h.stamp_ns <= *s.last_stamp_ns || h.arrival_ns < s.last_arrival_ns)) {
+    throw InputError("log: sensor '" + h.sensor_id + "': stamp " + std::to_string(h.stamp_ns) +
+                     " / arrival " + std::to_string(h.arrival_ns) +
+                     " not after the previous stamp " + std::to_string(*s.last_stamp_ns) +
+                     " / arrival " + std::to_string(s.last_arrival_ns));
+  }
+  s.last_stamp_ns = h.stamp_ns;
+  s.last_arrival_ns = h.arrival_ns;
+  if (const auto* scan = std::get_if<LidarScan>(&m)) {
+    WriteLidar(s, *scan);
+  } else {
+    AppendLogCsvRow(s.buffer, m);
+  }
+  ++s.entry.count;
+  if (s.buffer.size() >= kFlushBytes) s.Flush();
+}
+
+void LogWriter::WriteLidar(Stream& s, const LidarScan& scan) {
+  const std::string name = std::to_string(scan.header.stamp_ns) + ".pcd";
+  static const std::vector<LidarPoint> kNone;
+  const std::vector<LidarPoint>& points = scan.points ? *scan.points : kNone;
+  WriteLidarPcd(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id / name, points);
+  AppendLidarIndexRow(s.buffer, scan, name);
+  s.lidar_points += points.size();
+}
+
+void LogWriter::WriteTruth(const TruthSample& sample) {
+  if (!truth_) throw InputError("log: no truth mount given (LogWriterOptions::truth_T_body_imu)");
+  truth_->Write(sample);
+}
+
+const LogManifest& LogWriter::Close() {
+  if (closed_) return manifest_;
+  manifest_.streams.clear();
+  for (auto& s : streams_) {
+    s->Flush();
+    s->out.close();
+    if (!s->out) throw InputError(s->path.string() + ": write failed");
+    manifest_.streams.push_back(s->entry);
+  }
+  if (truth_) truth_->Close();
+  WriteLogManifest(dir_ / "log.yaml", manifest_);
+  closed_ = true;
+  return manifest_;
+}
+
+std::vector<LogStreamStats> LogWriter::stats() const {
+  std::vector<LogStreamStats> out;
+  for (const auto& s : streams_) {
+    out.push_back({s->entry.id, s->entry.type, s->entry.count, s->lidar_points});
+  }
+  return out;
+}
+
+}  // namespace statebench::sensors

@@ -1,0 +1,82 @@
+// Writes a recorded log directory (docs/log-format.md) from a measurement stream: per sensor a
+// CSV file in the folder of its type (imu/, gnss/, heading/, wheels/, speed/, steering/,
+// body_velocity/), per lidar a sweep index lidar/<id>.csv plus one PCD per sweep in
+// lidar/<id>/<stamp_ns>.pcd, the sensor setup as setup.yaml, optionally the truth (truth.csv,
+// truth_body.tum, truth_imu.tum via core/truth_io.hpp), and the manifest log.yaml last.
+//
+// Numbers are written in shortest round-trip form and lidar points as raw floats, so LogReader
+// gives back exactly the measurements written.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geodetic.hpp"
+#include "core/measurements.hpp"
+#include "core/se3.hpp"
+#include "core/truth.hpp"
+#include "sensors/log_manifest.hpp"
+
+namespace statebench {
+class TruthWriter;
+}
+
+namespace statebench::sensors {
+
+struct LogWriterOptions {
+  std::string scenario;
+  std::optional<std::uint64_t> seed;
+  std::optional<GeodeticPoint> origin;
+  std::string setup_yaml;               // copied to setup.yaml when not empty
+  std::optional<SE3> truth_T_body_imu;  // when set, WriteTruth writes the truth files
+};
+
+struct LogStreamStats {
+  std::string id;
+  LogStreamType type = LogStreamType::kImu;
+  std::size_t count = 0;
+  std::size_t lidar_points = 0;
+};
+
+class LogWriter {
+ public:
+  // Creates `dir` (and its parents). Throws InputError if it already holds a log (log.yaml) or
+  // cannot be created.
+  LogWriter(const std::filesystem::path& dir, LogWriterOptions options);
+  ~LogWriter();  // without Close() the files are flushed but no manifest is written
+  LogWriter(const LogWriter&) = delete;
+  LogWriter& operator=(const LogWriter&) = delete;
+
+  // Measurements of one sensor must come with strictly increasing stamps and non-decreasing
+  // arrivals, and keep their type; throws InputError otherwise (the log would not read back).
+  void Write(const Measurement& m);
+  // Throws InputError if the options gave no truth_T_body_imu.
+  void WriteTruth(const TruthSample& sample);
+
+  // Flushes and closes every file and writes log.yaml; throws InputError on a failed write.
+  const LogManifest& Close();
+
+  // Per stream, in order of first appearance.
+  std::vector<LogStreamStats> stats() const;
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  struct Stream;
+  Stream& StreamFor(const Measurement& m);
+  void WriteLidar(Stream& s, const LidarScan& scan);
+
+  std::filesystem::path dir_;
+  LogWriterOptions options_;
+  std::vector<std::unique_ptr<Stream>> streams_;
+  std::map<std::string, Stream*> by_id_;
+  std::unique_ptr<TruthWriter> truth_;
+  LogManifest manifest_;
+  bool closed_ = false;
+};
+
+}  // namespace statebench::sensors
