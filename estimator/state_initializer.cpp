@@ -10,8 +10,7 @@
 namespace statebench::est {
 namespace {
 
-constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;  // IMU and fixes kept before init
-constexpr TimeNs kMovingTiltHalfWindowNs = 250 * kNsPerMillisecond;
+constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;   // IMU and fixes kept before init
 constexpr TimeNs kSpeedBaselineNs = kNsPerSecond;  // fixes this far apart give the speed
 constexpr double kMaxStillGravityError = 0.5;      // | |f| - g | in a still period, m/s^2
 
@@ -29,6 +28,18 @@ Moments ComputeMoments(std::span<const ImuSample> samples, Get get) {
   for (const ImuSample& s : samples) m.std += (get(s) - m.mean).cwiseAbs2();
   m.std = (m.std / static_cast<double>(samples.size())).cwiseSqrt();
   return m;
+}
+
+// Rotation R with R b1 parallel to r1 and R b2 as close to r2 as the first allows (TRIAD).
+Quat Triad(const Vec3& b1, const Vec3& r1, const Vec3& b2, const Vec3& r2) {
+  const auto frame = [](const Vec3& v1, const Vec3& v2) {
+    Mat3 m;
+    m.col(0) = v1.normalized();
+    m.col(1) = v1.cross(v2).normalized();
+    m.col(2) = m.col(0).cross(m.col(1));
+    return m;
+  };
+  return Quat(frame(r1, r2) * frame(b1, b2).transpose()).normalized();
 }
 
 }  // namespace
@@ -57,6 +68,7 @@ void StateInitializer::AddHeading(const DualAntennaHeading& heading, const Vec3&
   ref.t_ns = heading.header.stamp_ns;
   ref.direction_imu = baseline_imu;
   ref.yaw_rad = heading.yaw_rad;
+  ref.pitch_rad = heading.pitch_sigma_rad > 0.0 ? heading.pitch_rad : 0.0;
   ref.sigma_rad = heading.yaw_sigma_rad;
   ref.method = "dual antenna";
   heading_ = ref;
@@ -90,28 +102,16 @@ void StateInitializer::UpdateStill() {
   tilt.t_ns = t_end;
   tilt.up_imu = accel.mean.normalized();
   tilt.gyro_bias = gyro.mean;
-  tilt.still = true;
   still_ = tilt;
 }
 
-double StateInitializer::SpeedEstimate() const {
-  if (fixes_.size() < 2) return 0.0;
+const StateInitializer::Fix* StateInitializer::EarlierFix(TimeNs min_baseline_ns,
+                                                          TimeNs t_min_ns) const {
   const Fix& b = fixes_.back();
-  for (auto it = fixes_.rbegin(); it != fixes_.rend(); ++it) {
-    const TimeNs dt_ns = b.fix.header.stamp_ns - it->fix.header.stamp_ns;
-    if (dt_ns >= kSpeedBaselineNs) {
-      return (b.fix.p_enu - it->fix.p_enu).head<2>().norm() / ToSeconds(dt_ns);
-    }
-  }
-  return 0.0;
-}
-
-const StateInitializer::Fix* StateInitializer::VelocityPartner(TimeNs t_min_ns) const {
-  const Fix& b = fixes_.back();
-  // Baseline long enough for a velocity error of about 0.2 m/s from the fix noise.
+  // Long enough for a velocity error of about 0.2 m/s from the fix noise.
   const double sigma = std::sqrt(b.fix.covariance.trace());
   const TimeNs baseline_ns =
-      std::clamp(FromSeconds(sigma / 0.2), kSpeedBaselineNs, 10 * kSpeedBaselineNs);
+      std::clamp(FromSeconds(sigma / 0.2), min_baseline_ns, 10 * kNsPerSecond);
   for (auto it = fixes_.rbegin(); it != fixes_.rend(); ++it) {
     const TimeNs t = it->fix.header.stamp_ns;
     if (t < t_min_ns) break;
@@ -135,44 +135,111 @@ std::optional<StateInitializer::YawReference> StateInitializer::CourseReference(
     ref.t_ns = (b.fix.header.stamp_ns + it->fix.header.stamp_ns) / 2;
     ref.direction_imu = forward_imu_;
     ref.yaw_rad = std::atan2(chord.y(), chord.x());
+    ref.pitch_rad = std::atan2(-chord.z(), length);
     ref.sigma_rad = std::max(options_.course_yaw_sigma_rad, std::sqrt(2.0) * sigma_h / length);
-    ref.speed_mps = length / ToSeconds(b.fix.header.stamp_ns - it->fix.header.stamp_ns);
     ref.method = "gnss course";
     return ref;
   }
   return std::nullopt;
 }
 
-std::optional<StateInitializer::Tilt> StateInitializer::MovingTilt(TimeNs t_ns,
-                                                                   double speed_mps) const {
-  const TimeNs t_begin = t_ns - kMovingTiltHalfWindowNs;
-  const TimeNs t_end = t_ns + kMovingTiltHalfWindowNs;
-  if (imu_.front().header.stamp_ns > t_begin || imu_.back().header.stamp_ns < t_end) {
-    return std::nullopt;
-  }
-  Vec3 f = Vec3::Zero(), w = Vec3::Zero();
-  int n = 0;
-  for (const ImuSample& s : imu_) {
-    if (s.header.stamp_ns < t_begin || s.header.stamp_ns > t_end) continue;
-    f += s.accel;
-    w += s.gyro;
-    ++n;
-  }
-  f /= n;
-  w /= n;
-  // f = a_imu - R^T g_world with a_imu ~ w x (s forward): up_imu = (f - a_imu) / |.|.
-  Tilt tilt;
-  tilt.t_ns = t_ns;
-  tilt.up_imu = (f - w.cross(speed_mps * forward_imu_)).normalized();
-  tilt.still = false;
-  return tilt;
+ImuPreintegration StateInitializer::Preintegrate(TimeNs from_ns, TimeNs to_ns,
+                                                 const Vec3& gyro_bias) const {
+  return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu_), from_ns, to_ns, noise_,
+                                        ImuBias{gyro_bias, Vec3::Zero()});
 }
 
 Quat StateInitializer::GyroDelta(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const {
-  if (to_ns <= from_ns) return Quat::Identity();
-  return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu_), from_ns, to_ns, noise_,
-                                        ImuBias{gyro_bias, Vec3::Zero()})
-      .delta_q();
+  if (from_ns == to_ns) return Quat::Identity();
+  if (to_ns < from_ns) return GyroDelta(to_ns, from_ns, gyro_bias).conjugate();
+  return Preintegrate(from_ns, to_ns, gyro_bias).delta_q();
+}
+
+std::optional<StateInitializer::Anchor> StateInitializer::StaticAnchor(const YawReference& yaw,
+                                                                       TimeNs t0_ns) const {
+  const Tilt& tilt = *still_;
+  const Vec3& bg = tilt.gyro_bias;
+  // Attitude with the right tilt and an arbitrary yaw, carried to t0 by the gyro; then the yaw
+  // rotation about world z that aligns the reference direction at its stamp.
+  const Quat q_tilt = Quat::FromTwoVectors(tilt.up_imu, Vec3::UnitZ());
+  const Quat q_a_t0 = (q_tilt * GyroDelta(tilt.t_ns, t0_ns, bg)).normalized();
+  const Vec3 d_world = q_a_t0 * GyroDelta(t0_ns, yaw.t_ns, bg) * yaw.direction_imu;
+  const double delta = so3::WrapAngle(yaw.yaw_rad - std::atan2(d_world.y(), d_world.x()));
+  const Quat q0 = (Eigen::AngleAxisd(delta, Vec3::UnitZ()) * q_a_t0).normalized();
+
+  // The newest fix b moved to the IMU; the velocity from b and an earlier fix a through the IMU
+  // displacement between them: p_b = p_a + v_a dt + g dt^2 / 2 + R_a dp.
+  const Fix& b = fixes_.back();
+  Anchor anchor;
+  anchor.still_now = still_->t_ns == t0_ns;
+  anchor.sigma_tilt = options_.roll_pitch_sigma_rad;
+  NavState& x = anchor.state;
+  x.t_ns = b.fix.header.stamp_ns;
+  x.q_world_imu = q0 * GyroDelta(t0_ns, x.t_ns, bg);
+  x.p_world = b.fix.p_enu - x.q_world_imu * b.p_imu_antenna;
+  x.gyro_bias = bg;
+  if (anchor.still_now) return anchor;
+  const Fix* a = EarlierFix(kNsPerSecond, imu_.front().header.stamp_ns);
+  if (a == nullptr) return std::nullopt;
+  const TimeNs t_a = a->fix.header.stamp_ns;
+  const double dt = ToSeconds(x.t_ns - t_a);
+  const ImuPreintegration pim = Preintegrate(t_a, x.t_ns, bg);
+  const Quat q_a = q0 * GyroDelta(t0_ns, t_a, bg);
+  const Vec3 p_a = a->fix.p_enu - q_a * a->p_imu_antenna;
+  const Vec3 v_a = (x.p_world - p_a - 0.5 * kGravityWorld * dt * dt - q_a * pim.delta_p()) / dt;
+  x.v_world = v_a + kGravityWorld * dt + q_a * pim.delta_v();
+  anchor.sigma_v_fix = std::sqrt(a->fix.covariance.trace() + b.fix.covariance.trace()) / dt;
+  return anchor;
+}
+
+std::optional<StateInitializer::Anchor> StateInitializer::MovingAnchor(
+    const YawReference& yaw) const {
+  // Three fixes a, m, b of one antenna path: with w_k = dp_k + dR_k l_k - l_a (preintegrated
+  // from t_a, IMU frame at a) and tau_k = t_k - t_a,
+  //   (p_k - p_a - g tau_k^2 / 2) / tau_k = v_a + R_a w_k / tau_k,
+  // and the difference of k = b and k = m eliminates v_a: R_a (w_b / tau_b - w_m / tau_m) = L,
+  // an exact vector observation of R_a (mostly gravity, plus whatever the vehicle accelerated).
+  // TRIAD with the yaw reference as second vector gives R_a; then v_a from k = b.
+  const Fix& b = fixes_.back();
+  const Fix* a = EarlierFix(2 * kNsPerSecond, imu_.front().header.stamp_ns);
+  if (a == nullptr) return std::nullopt;
+  const TimeNs t_a = a->fix.header.stamp_ns;
+  const TimeNs t_b = b.fix.header.stamp_ns;
+  const Fix* m = nullptr;
+  for (const Fix& f : fixes_) {
+    const TimeNs t = f.fix.header.stamp_ns;
+    if (t > t_a && t < t_b &&
+        (m == nullptr ||
+         std::abs(t - (t_a + t_b) / 2) < std::abs(m->fix.header.stamp_ns - (t_a + t_b) / 2))) {
+      m = &f;
+    }
+  }
+  if (m == nullptr) return std::nullopt;
+  const Vec3 bg = Vec3::Zero();  // unknown while moving
+  const auto observe = [&](const Fix& k, Vec3* world, Vec3* body) {
+    const double tau = ToSeconds(k.fix.header.stamp_ns - t_a);
+    const ImuPreintegration pim = Preintegrate(t_a, k.fix.header.stamp_ns, bg);
+    *body = (pim.delta_p() + pim.delta_q() * k.p_imu_antenna - a->p_imu_antenna) / tau;
+    *world = (k.fix.p_enu - a->fix.p_enu - 0.5 * kGravityWorld * tau * tau) / tau;
+  };
+  Vec3 world_b, body_b, world_m, body_m;
+  observe(b, &world_b, &body_b);
+  observe(*m, &world_m, &body_m);
+  const Vec3 d_body = GyroDelta(t_a, yaw.t_ns, bg) * yaw.direction_imu;
+  const Vec3 d_world(std::cos(yaw.pitch_rad) * std::cos(yaw.yaw_rad),
+                     std::cos(yaw.pitch_rad) * std::sin(yaw.yaw_rad), -std::sin(yaw.pitch_rad));
+  const Quat q_a = Triad(body_b - body_m, world_b - world_m, d_body, d_world);
+
+  Anchor anchor;
+  anchor.sigma_tilt = options_.moving_roll_pitch_sigma_rad;
+  NavState& x = anchor.state;
+  x.t_ns = t_a;
+  x.q_world_imu = q_a;
+  x.p_world = a->fix.p_enu - q_a * a->p_imu_antenna;
+  x.v_world = world_b - q_a * body_b;
+  anchor.sigma_v_fix =
+      std::sqrt(a->fix.covariance.trace() + b.fix.covariance.trace()) / ToSeconds(t_b - t_a);
+  return anchor;
 }
 
 std::optional<InitialState> StateInitializer::TryInitialize() {
@@ -186,73 +253,34 @@ std::optional<InitialState> StateInitializer::TryInitialize() {
   if (!yaw) return std::nullopt;
   const TimeNs t0 = imu_.back().header.stamp_ns;
   const TimeNs t_imu_begin = imu_.front().header.stamp_ns;
-  if (yaw->t_ns < t_imu_begin) return std::nullopt;
-  const bool still_now = use_still && still_->t_ns == t0;
-  const double speed = still_now ? 0.0 : (yaw->speed_mps > 0.0 ? yaw->speed_mps : SpeedEstimate());
-
-  std::optional<Tilt> tilt = use_still ? still_ : MovingTilt(yaw->t_ns, speed);
-  if (!tilt) return std::nullopt;
-
-  // Attitude with the right tilt and an arbitrary yaw, carried to t0 by the gyro; then the yaw
-  // rotation about world z that aligns the reference direction at its stamp.
-  const Quat q_tilt = Quat::FromTwoVectors(tilt->up_imu, Vec3::UnitZ());
-  const Quat q_a_t0 = (q_tilt * GyroDelta(tilt->t_ns, t0, tilt->gyro_bias)).normalized();
-  const Quat q_a_ref = q_a_t0 * GyroDelta(yaw->t_ns, t0, tilt->gyro_bias).conjugate();
-  const Vec3 d_world = q_a_ref * yaw->direction_imu;
-  const double delta = so3::WrapAngle(yaw->yaw_rad - std::atan2(d_world.y(), d_world.x()));
-  const Quat q0 = (Eigen::AngleAxisd(delta, Vec3::UnitZ()) * q_a_t0).normalized();
-
-  // Position and velocity: the newest fix b moved to the IMU; the velocity from b and an earlier
-  // fix a through the IMU displacement between them (p_b = p_a + v_a dt + g dt^2 / 2 + R_a dp),
-  // then b is carried to t0 with the IMU.
-  const Fix& b = fixes_.back();
-  const TimeNs t_b = b.fix.header.stamp_ns;
-  if (t_b < t_imu_begin || t_b > t0) return std::nullopt;
-  const Vec3& bg = tilt->gyro_bias;
-  const auto q_at = [&](TimeNs t) { return Quat(q0 * GyroDelta(t, t0, bg).conjugate()); };
-  const auto preintegrate = [&](TimeNs from, TimeNs to) {
-    return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu_), from, to, noise_,
-                                          ImuBias{bg, Vec3::Zero()});
-  };
-  NavState at_b;
-  at_b.t_ns = t_b;
-  at_b.q_world_imu = q_at(t_b);
-  at_b.p_world = b.fix.p_enu - at_b.q_world_imu * b.p_imu_antenna;
-  at_b.gyro_bias = bg;
-  double sigma_v_fix = 0.0;
-  if (!still_now) {
-    const Fix* a = VelocityPartner(t_imu_begin);
-    if (a == nullptr) return std::nullopt;
-    const TimeNs t_a = a->fix.header.stamp_ns;
-    const double dt = ToSeconds(t_b - t_a);
-    const ImuPreintegration pim = preintegrate(t_a, t_b);
-    const Quat q_a = q_at(t_a);
-    const Vec3 p_a = a->fix.p_enu - q_a * a->p_imu_antenna;
-    const Vec3 v_a =
-        (at_b.p_world - p_a - 0.5 * kGravityWorld * dt * dt - q_a * pim.delta_p()) / dt;
-    at_b.v_world = v_a + kGravityWorld * dt + q_a * pim.delta_v();
-    sigma_v_fix = std::sqrt(a->fix.covariance.trace() + b.fix.covariance.trace()) / dt;
+  const TimeNs t_fix = fixes_.back().fix.header.stamp_ns;
+  if (yaw->t_ns < t_imu_begin || yaw->t_ns > t0 || t_fix < t_imu_begin || t_fix > t0) {
+    return std::nullopt;
   }
-  const NavState s0 = t0 > t_b ? preintegrate(t_b, t0).Predict(at_b) : at_b;
+  const std::optional<Anchor> anchor = use_still ? StaticAnchor(*yaw, t0) : MovingAnchor(*yaw);
+  if (!anchor) return std::nullopt;
 
   InitialState out;
-  out.state = s0;
+  const NavState& x = anchor->state;
+  out.state = x.t_ns < t0 ? Preintegrate(x.t_ns, t0, x.gyro_bias).Predict(x) : x;
   out.state.t_ns = t0;
-  out.state.q_world_imu = q0;
+  if (anchor->still_now) out.state.v_world.setZero();
 
   const InitializationOptions& o = options_;
-  const double sigma_tilt = tilt->still ? o.roll_pitch_sigma_rad : o.moving_roll_pitch_sigma_rad;
-  const double sigma_v = still_now ? o.static_velocity_sigma_mps
-                                   : std::hypot(o.moving_velocity_sigma_mps, sigma_v_fix);
+  const double sigma_v = anchor->still_now
+                             ? o.static_velocity_sigma_mps
+                             : std::hypot(o.moving_velocity_sigma_mps, anchor->sigma_v_fix);
   const double sigma_bg =
-      tilt->still ? std::max(2.0 * noise_.gyro_noise_density / std::sqrt(o.static_duration_s), 1e-4)
-                  : o.gyro_bias_sigma_radps;
-  const Mat3 R0 = q0.toRotationMatrix();
+      use_still ? std::max(2.0 * noise_.gyro_noise_density / std::sqrt(o.static_duration_s), 1e-4)
+                : o.gyro_bias_sigma_radps;
+  const Mat3 R0 = out.state.q_world_imu.toRotationMatrix();
+  const double sigma_tilt = anchor->sigma_tilt;
   const Vec3 world_rotation_var(sigma_tilt * sigma_tilt, sigma_tilt * sigma_tilt,
                                 yaw->sigma_rad * yaw->sigma_rad);
   const double attitude_sigma = std::max(sigma_tilt, yaw->sigma_rad);
+  const Fix& b = fixes_.back();
   const double lever = b.p_imu_antenna.norm() * attitude_sigma;
-  const double drift = sigma_v * ToSeconds(t0 - t_b);
+  const double drift = sigma_v * ToSeconds(t0 - t_fix);
   Mat15& P = out.covariance;
   P.setZero();
   P.block<3, 3>(kRotationIndex, kRotationIndex) =
@@ -263,7 +291,7 @@ std::optional<InitialState> StateInitializer::TryInitialize() {
   P.block<3, 3>(kGyroBiasIndex, kGyroBiasIndex) = sigma_bg * sigma_bg * Mat3::Identity();
   P.block<3, 3>(kAccelBiasIndex, kAccelBiasIndex) =
       o.accel_bias_sigma_mps2 * o.accel_bias_sigma_mps2 * Mat3::Identity();
-  out.method = std::string(tilt->still ? "static" : "moving") + " (" + yaw->method + ")";
+  out.method = std::string(use_still ? "static" : "moving") + " (" + yaw->method + ")";
   return out;
 }
 

@@ -4,15 +4,15 @@
 //  - Tilt, static: over a still period (per-axis std of gyro and accel below thresholds, |f|
 //    near g) the specific force is f = R^T (0, 0, g) + b_a, so the up axis in the IMU frame is
 //    f_mean / |f_mean| (the accel bias tilts it by |b_a| / g) and the gyro bias is the mean rate.
-//  - Tilt, moving: f = R^T (a - g_world); for a vehicle moving along its forward axis at speed s
-//    the acceleration in the IMU frame is about omega x (s forward) (centripetal; the change of
-//    speed is neglected), so up ~ (f - omega x s forward) / |.|, averaged over 0.5 s.
+//  - Attitude, moving: three fixes a, m, b of one antenna and the IMU preintegrated from a give
+//    an exact vector observation of R_a (mostly gravity plus whatever the vehicle accelerated,
+//    independent of the dynamics; see MovingAnchor), and the yaw reference a second one: TRIAD.
 //  - Yaw: a dual-antenna heading (yaw of the baseline main -> aux) or the GNSS course: the
 //    horizontal chord between two fixes at least course_min_distance_m apart (more if the fixes
 //    are noisy) is parallel to the vehicle's forward axis at about the middle of the chord.
-// The tilt and the yaw reference are taken at different stamps; the gyro (minus the gyro bias
-// estimate) carries both to the initialisation stamp, and the yaw is fixed by a rotation about
-// the world z axis, R = Rz(delta) R_tilt, which keeps the tilt.
+// Static: the tilt and the yaw reference are taken at different stamps; the gyro (minus the gyro
+// bias estimate) carries both to the initialisation stamp, and the yaw is fixed by a rotation
+// about the world z axis, R = Rz(delta) R_tilt, which keeps the tilt.
 // Position: the newest fix moved to the IMU through the lever arm; velocity: zero if the still
 // period reaches the initialisation stamp, else from two fixes and the IMU displacement between
 // them (exact for any motion once the attitude is known; the accel bias is taken as zero).
@@ -31,6 +31,7 @@
 #include "estimator/estimator_config.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/imu_preintegration.hpp"
 
 namespace statebench::est {
 
@@ -55,18 +56,17 @@ class StateInitializer {
   std::optional<InitialState> TryInitialize();
 
  private:
-  struct Tilt {
+  struct Tilt {  // of a still period
     TimeNs t_ns = 0;
     Vec3 up_imu = Vec3::UnitZ();
     Vec3 gyro_bias = Vec3::Zero();
-    bool still = false;  // from a still period (else moving)
   };
   struct YawReference {
     TimeNs t_ns = 0;
     Vec3 direction_imu = Vec3::UnitX();
     double yaw_rad = 0.0;
+    double pitch_rad = 0.0;  // of the reference direction (0 if unknown)
     double sigma_rad = 0.0;
-    double speed_mps = 0.0;
     std::string method;
   };
   struct Fix {
@@ -74,13 +74,24 @@ class StateInitializer {
     Vec3 p_imu_antenna;
   };
 
+  // A state before or at the initialisation stamp (carried to it with the IMU).
+  struct Anchor {
+    NavState state;
+    double sigma_tilt = 0.0;
+    double sigma_v_fix = 0.0;  // velocity error from the fix noise
+    bool still_now = false;
+  };
+
   void UpdateStill();
   std::optional<YawReference> CourseReference() const;
-  std::optional<Tilt> MovingTilt(TimeNs t_ns, double speed_mps) const;
+  std::optional<Anchor> StaticAnchor(const YawReference& yaw, TimeNs t0_ns) const;
+  std::optional<Anchor> MovingAnchor(const YawReference& yaw) const;
+  ImuPreintegration Preintegrate(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;
+  // Rotation from the IMU frame at to_ns to the one at from_ns (either order).
   Quat GyroDelta(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;
-  double SpeedEstimate() const;
-  // The latest fix at least a velocity baseline before the newest one (not before t_min_ns).
-  const Fix* VelocityPartner(TimeNs t_min_ns) const;
+  // The latest fix at least a velocity baseline (min_baseline_ns or more if the fixes are noisy)
+  // before the newest one, not before t_min_ns.
+  const Fix* EarlierFix(TimeNs min_baseline_ns, TimeNs t_min_ns) const;
 
   InitializationOptions options_;
   ImuNoise noise_;

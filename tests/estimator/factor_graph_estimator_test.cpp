@@ -106,6 +106,39 @@ TEST(FactorGraphEstimator, NoiseFreeImuAndGnssTrackTruth) {
   }
 }
 
+TEST(FactorGraphEstimator, InitialisesWhileMovingAndConverges) {
+  for (const bool dual : {false, true}) {
+    ScenarioOptions so;
+    so.start_s = 10.0;  // the data starts while driving
+    so.duration_s = 30.0;
+    if (dual) so.antennas.push_back({"gnss_rear", Vec3(-0.8, 0.0, 1.0)});
+    const Scenario sc = MakeScenario(so);
+    const RunResult r = RunEstimator(sc, TestOptions(), 25.0);
+    PrintRun(dual ? "moving start, two antennas" : "moving start, one antenna", r, 25.0);
+    EXPECT_EQ(r.diagnostics.initialization,
+              dual ? "moving (dual antenna)" : "moving (gnss course)");
+    EXPECT_LT(ToSeconds(r.diagnostics.initialized_at_ns), 13.0);
+    EXPECT_EQ(r.non_finite_outputs, 0);
+    EXPECT_LT(r.max_position_error, 0.005);
+    EXPECT_LT(r.max_rotation_error * kRadToDeg, 0.01);
+  }
+}
+
+TEST(FactorGraphEstimator, StaticModeInitialisesOnlyAfterAStillPeriod) {
+  ScenarioOptions so;
+  so.start_s = 10.0;
+  so.duration_s = 5.0;
+  FactorGraphOptions o = TestOptions();
+  o.initialization.mode = InitializationMode::kStatic;
+  const Scenario moving = MakeScenario(so);
+  const RunResult r = RunEstimator(moving, o, 0.0);
+  EXPECT_FALSE(r.diagnostics.initialized);
+  EXPECT_EQ(r.outputs, 0);
+  so.start_s = 0.0;
+  const RunResult s = RunEstimator(MakeScenario(so), o, 0.0);
+  EXPECT_EQ(s.diagnostics.initialization, "static (gnss course)");
+}
+
 // Acceptance: GNSS delivered up to 0.5 s late and out of order gives the in-order smoothed
 // states once they leave the window (noisy data, so any difference in the graph would show).
 // The smoother sees the same stamp-ordered stream in both runs; what remains is rounding (Ceres
