@@ -1,0 +1,30 @@
+// Estimate files: estimate.csv (state, WGS84 position, covariance diagonal and optionally the
+// full covariance) and estimate.tum (t tx ty tz qx qy qz qw of T_world_imu). Columns:
+// docs/estimate-format.md.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/state.hpp"
+
+namespace statebench::reports {
+
+class EstimateWriter {
+ public:
+  EstimateWriter(const std::filesystem::path& dir, bool full_covariance);
+  ~EstimateWriter();
+  void Write(const StateEstimate& estimate);
+  void Close();  // throws InputError when writing failed
+
+ private:
+  void Flush();
+  std::filesystem::path dir_;
+  bool full_covariance_;
+  std::ofstream csv_, tum_;
+  std::string csv_buf_, tum_buf_;
+  bool closed_ = false;
+};
+
+}  // namespace statebench::reports
