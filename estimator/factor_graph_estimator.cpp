@@ -1,6 +1,5 @@
 #include "estimator/factor_graph_estimator.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <deque>
@@ -10,7 +9,9 @@
 
 #include "core/error.hpp"
 #include "estimator/gnss_enu.hpp"
+#include "estimator/gnss_stamp_group.hpp"
 #include "estimator/imu_propagation.hpp"
+#include "estimator/imu_rate_output.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/measurement_gate.hpp"
 #include "estimator/reorder_buffer.hpp"
@@ -64,6 +65,7 @@ struct FactorGraphEstimator::Impl {
         smoother(SmootherOptions(s, o)),
         initializer(o.initialization, noise,
                     setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
+        output(noise),
         latency_ns(FromSeconds(o.ReorderLatency(s))) {
     if (o.origin) frame.emplace(*o.origin);
   }
@@ -73,21 +75,19 @@ struct FactorGraphEstimator::Impl {
   ImuNoise noise;
   SlidingWindowSmoother smoother;
   StateInitializer initializer;
+  ImuRateOutput output;
   ReorderBuffer reorder;
   TimeNs latency_ns;
   std::optional<LocalEnuFrame> frame;
   EstimatorDiagnostics diag;
 
-  std::vector<ImuSample> imu;  // accepted samples, from the oldest stamp still needed
+  TimeNs newest_imu_ns = INT64_MIN;
   std::map<std::string, std::set<TimeNs>> seen_stamps;
   bool initialized = false;
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
   TimeNs next_solve_ns = 0;
-  std::optional<PropagatedState> anchor;     // newest state of the last solve
-  std::optional<ImuPreintegration> running;  // anchor -> newest IMU sample
-  std::deque<PropagatedState> snapshots;     // anchors of earlier solves still in the window
-  std::deque<Accepted> accepted;             // in the smoother, oldest first
-  std::vector<NavState> smoothed;            // left the window, not taken yet
+  std::deque<Accepted> accepted;   // in the smoother, oldest first
+  std::vector<NavState> smoothed;  // left the window, not taken yet
   GateState gnss_gate, heading_gate;
 
   SensorCounters& Counters(const std::string& id) { return diag.sensors[id]; }
@@ -99,19 +99,17 @@ struct FactorGraphEstimator::Impl {
     const std::string& id = s.header.sensor_id;
     if (id != setup.imu_id) return Reject(id, RejectReason::kUnknownSensor);
     if (const auto why = CheckImuSample(s)) return Reject(id, *why);
-    if (!imu.empty() && s.header.stamp_ns <= imu.back().header.stamp_ns) {
-      return Reject(id, RejectReason::kStampBackwards);
-    }
+    if (s.header.stamp_ns <= newest_imu_ns) return Reject(id, RejectReason::kStampBackwards);
     ++Counters(id).accepted;
-    imu.push_back(s);
-    if (running) running->Integrate(s);
+    newest_imu_ns = s.header.stamp_ns;
+    output.AddImu(s);
     reorder.Push(s);
     ReleaseUpTo(s.header.stamp_ns - latency_ns);
   }
 
   // Common arrival checks of GNSS fixes and headings; true if the measurement may go on.
   bool CheckStamp(const MeasurementHeader& h) {
-    if (!imu.empty() && h.stamp_ns > imu.back().header.stamp_ns + kMaxFutureNs) {
+    if (newest_imu_ns != INT64_MIN && h.stamp_ns > newest_imu_ns + kMaxFutureNs) {
       Reject(h.sensor_id, RejectReason::kStampInFuture);
       return false;
     }
@@ -192,41 +190,28 @@ struct FactorGraphEstimator::Impl {
     diag.initialized = true;
     diag.initialized_at_ns = init->state.t_ns;
     diag.initialization = init->method;
-    SetAnchor(PropagatedState{init->state, init->covariance});
+    output.SetAnchor(PropagatedState{init->state, init->covariance});
     next_solve_ns = init->state.t_ns + FromSeconds(options.solve_interval_s);
     gnss_gate.last_accepted_ns = heading_gate.last_accepted_ns = init->state.t_ns;
   }
 
   // ---- 4. GNSS and headings ----------------------------------------------------------------
 
-  // The fix in ENU with the antenna's covariance scale and floor; nullopt (counted) if the
-  // covariance threshold discards it. The first fix that passes sets the origin if the options
-  // give none.
+  // The fix in ENU with the antenna's covariance overrides; nullopt (counted) if the covariance
+  // threshold discards it. The first fix that passes sets the origin if the options give none.
   std::optional<GnssPositionEnu> ToEnu(const GnssFix& fix) {
-    const GnssAntenna& antenna = *setup.FindAntenna(fix.header.sensor_id);
-    GnssFix scaled = fix;
-    Mat3 C = antenna.covariance_scale * 0.5 * (fix.covariance_enu + fix.covariance_enu.transpose());
-    if (antenna.min_sigma_m > 0.0) {
-      const Eigen::SelfAdjointEigenSolver<Mat3> eig(C);
-      const Vec3 floored = eig.eigenvalues().cwiseMax(antenna.min_sigma_m * antenna.min_sigma_m);
-      C = eig.eigenvectors() * floored.asDiagonal() * eig.eigenvectors().transpose();
-    }
-    scaled.covariance_enu = 0.5 * (C + C.transpose());
-    if (LargestSigma(C) > options.gnss.max_sigma) {
+    GnssFix adjusted = fix;
+    adjusted.covariance_enu =
+        AntennaCovariance(*setup.FindAntenna(fix.header.sensor_id), fix.covariance_enu);
+    if (LargestSigma(adjusted.covariance_enu) > options.gnss.max_sigma) {
       Reject(fix.header.sensor_id, RejectReason::kCovarianceThreshold);
       return std::nullopt;
     }
     if (!frame) frame.emplace(GeodeticPoint{fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
-    std::optional<GnssPositionEnu> enu = GnssFixToEnu(scaled, *frame);
+    std::optional<GnssPositionEnu> enu = GnssFixToEnu(adjusted, *frame);
     if (!enu) Reject(fix.header.sensor_id, RejectReason::kInvalidCovariance);
     return enu;
   }
-
-  struct HeadingInput {
-    DualAntennaHeading heading;
-    Vec3 baseline_imu;
-    std::string counter_id;  // where its acceptance is counted
-  };
 
   void ProcessGroup(const std::vector<Measurement>& group) {
     std::map<std::string, GnssPositionEnu> fixes;        // by antenna id
@@ -242,33 +227,10 @@ struct FactorGraphEstimator::Impl {
         }
       }
     }
-    std::vector<HeadingInput> heading_inputs;
-    std::set<std::string> merged;  // aux antennas whose fix went into a heading
-    for (const DualAntennaPair& pair : setup.dual_antennas) {
-      const auto main = fixes.find(pair.main);
-      const auto aux = fixes.find(pair.aux);
-      const Vec3 baseline = pair.p_imu_aux - pair.p_imu_main;
-      if (const auto h = headings.find(pair.heading_id); h != headings.end()) {
-        heading_inputs.push_back({h->second, baseline, pair.heading_id});
-        headings.erase(h);
-      } else if (main != fixes.end() && aux != fixes.end()) {
-        const std::string id =
-            pair.heading_id.empty() ? pair.main + "+" + pair.aux : pair.heading_id;
-        heading_inputs.push_back({HeadingFromFixes(main->second, aux->second, id), baseline, id});
-      } else {
-        continue;
-      }
-      if (main != fixes.end() && aux != fixes.end()) merged.insert(pair.aux);
-    }
-
-    for (const auto& [id, fix] : fixes) {
-      if (merged.count(id) > 0) {
-        ++Counters(id).accepted;  // used through the heading
-      } else {
-        AddPosition(fix);
-      }
-    }
-    for (const HeadingInput& h : heading_inputs) AddHeading(h);
+    const StampGroup inputs = GroupStamp(fixes, headings, setup);
+    for (const std::string& id : inputs.merged) ++Counters(id).accepted;  // via the heading
+    for (const PositionInput& p : inputs.positions) AddPosition(p);
+    for (const HeadingInput& h : inputs.headings) AddHeading(h);
   }
 
   bool PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
@@ -280,9 +242,10 @@ struct FactorGraphEstimator::Impl {
     return reset;
   }
 
-  void AddPosition(const GnssPositionEnu& fix) {
+  void AddPosition(const PositionInput& in) {
+    const GnssPositionEnu& fix = in.fix;
     const std::string& id = fix.header.sensor_id;
-    const Vec3 lever = setup.FindAntenna(id)->p_imu_antenna;
+    const Vec3& lever = in.p_imu_antenna;
     if (!initialized) {
       ++Counters(id).accepted;
       return initializer.AddPosition(fix, lever);
@@ -366,19 +329,11 @@ struct FactorGraphEstimator::Impl {
     smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&
         newest.v_world.allFinite() && covariance.allFinite()) {
-      SetAnchor(PropagatedState{newest, covariance});
+      output.SetAnchor(PropagatedState{newest, covariance});
     }
     const TimeNs interval = FromSeconds(options.solve_interval_s);
     while (next_solve_ns <= lagged_ns) next_solve_ns += interval;
     TrimHistory();
-  }
-
-  void SetAnchor(const PropagatedState& a) {
-    anchor = a;
-    snapshots.push_back(a);
-    const ImuBias bias{a.state.gyro_bias, a.state.accel_bias};
-    running = ImuPreintegration::FromSamples(std::span<const ImuSample>(imu), a.state.t_ns,
-                                             imu.back().header.stamp_ns, noise, bias);
   }
 
   // Measurements anchored at states that left the window are final: compare their whitened
@@ -391,12 +346,7 @@ struct FactorGraphEstimator::Impl {
       auto it = std::upper_bound(left.begin(), left.end(), a.stamp_ns,
                                  [](TimeNs t, const NavState& s) { return t < s.t_ns; });
       if (it != left.begin()) {
-        const NavState& from = *std::prev(it);
-        const PropagatedState at{
-            ImuPreintegration::FromSamples(std::span<const ImuSample>(imu), from.t_ns, a.stamp_ns,
-                                           noise, ImuBias{from.gyro_bias, from.accel_bias})
-                .Predict(from),
-            Mat15::Zero()};
+        const PropagatedState at{output.Carry(*std::prev(it), a.stamp_ns), Mat15::Zero()};
         const double d2 = a.is_heading ? HeadingMahalanobisSquared(at, a.baseline_imu, a.heading)
                                        : GnssMahalanobisSquared(at, a.p_imu_antenna, a.fix.p_enu,
                                                                 a.fix.covariance);
@@ -410,54 +360,18 @@ struct FactorGraphEstimator::Impl {
   }
 
   void TrimHistory() {
-    const TimeNs t_window = smoother.WindowStates().front().t_ns;
-    while (snapshots.size() > 1 && snapshots[1].state.t_ns <= t_window) snapshots.pop_front();
-    TimeNs keep = std::min(t_window, snapshots.front().state.t_ns);
+    TimeNs keep = smoother.WindowStates().front().t_ns;
     if (!accepted.empty()) keep = std::min(keep, accepted.front().stamp_ns);
-    // Erase in chunks (the vector is needed contiguous for the preintegration).
-    if (imu.size() > 64 && imu[32].header.stamp_ns < keep) {
-      std::erase_if(imu, [&](const ImuSample& s) { return s.header.stamp_ns < keep; });
-    }
+    output.Forget(keep);
   }
 
   // ---- 6. Output ---------------------------------------------------------------------------
 
   std::optional<PropagatedState> PredictAt(TimeNs t_ns) const {
-    if (!anchor || imu.empty() || t_ns > imu.back().header.stamp_ns) return std::nullopt;
-    const std::span<const ImuSample> samples(imu);
-    if (t_ns >= anchor->state.t_ns) {
-      if (running && t_ns == running->end_ns()) {
-        return Propagate(anchor->state, anchor->covariance, *running);
-      }
-      const NavState& a = anchor->state;
-      return Propagate(a, anchor->covariance,
-                       ImuPreintegration::FromSamples(samples, a.t_ns, t_ns, noise,
-                                                      ImuBias{a.gyro_bias, a.accel_bias}));
-    }
-    // Inside the window: the smoothed mean, the covariance of the latest earlier snapshot.
+    if (const auto p = output.AfterAnchor(t_ns)) return p;
+    if (!output.has_anchor() || t_ns > newest_imu_ns) return std::nullopt;
     const std::vector<NavState> window = smoother.WindowStates();
-    auto it = std::upper_bound(window.begin(), window.end(), t_ns,
-                               [](TimeNs t, const NavState& s) { return t < s.t_ns; });
-    if (it == window.begin() || t_ns < imu.front().header.stamp_ns) return std::nullopt;
-    const NavState& from = *std::prev(it);
-    auto snap =
-        std::upper_bound(snapshots.begin(), snapshots.end(), t_ns,
-                         [](TimeNs t, const PropagatedState& s) { return t < s.state.t_ns; });
-    const PropagatedState& cov_from =
-        snap == snapshots.begin() ? snapshots.front() : *std::prev(snap);
-    const NavState& c = cov_from.state;
-    PropagatedState out;
-    out.state = ImuPreintegration::FromSamples(samples, from.t_ns, t_ns, noise,
-                                               ImuBias{from.gyro_bias, from.accel_bias})
-                    .Predict(from);
-    out.covariance =
-        c.t_ns <= t_ns
-            ? Propagate(c, cov_from.covariance,
-                        ImuPreintegration::FromSamples(samples, c.t_ns, t_ns, noise,
-                                                       ImuBias{c.gyro_bias, c.accel_bias}))
-                  .covariance
-            : cov_from.covariance;
-    return out;
+    return output.InWindow(t_ns, window);
   }
 };
 

@@ -9,19 +9,19 @@
 //     delays up to reorder_latency_s gives bit-identical smoothed states.
 //  3. Until initialised, released data feed the StateInitializer (static or moving alignment);
 //     its first state opens the window. The ENU origin is options.origin or the first fix.
-//  4. GNSS fixes of one stamp are grouped: the two antennas of a dual-antenna pair give a heading
-//     (or the receiver's DualAntennaHeading of that stamp is used) plus the main antenna's
-//     position; the aux position is not added as well (its information is in the heading, the
-//     two together would count it twice). Every measurement passes the covariance threshold
-//     (paper), then a Mahalanobis gate against the IMU prediction from the last solve, then goes
-//     into the smoother with the robust kernel.
+//  4. GNSS fixes of one stamp are grouped (gnss_stamp_group.hpp): the two antennas of a
+//     dual-antenna pair give a heading (or the receiver's DualAntennaHeading of that stamp is
+//     used) plus the main antenna's position. Every measurement passes the covariance threshold
+//     (paper), then a Mahalanobis gate against the IMU prediction from the last solve
+//     (measurement_gate.hpp), then goes into the smoother with the robust kernel; once it leaves
+//     the window its final whitened residual tells whether the kernel down-weighted it.
 //  5. Every solve_interval_s of (lagged) IMU time the window is solved and the states older than
 //     window_s are marginalised; the newest state and its covariance become the anchor.
-//  6. StateAt(t): from the anchor through the buffered IMU samples (mean and covariance,
-//     imu_propagation.hpp) for t at or after the anchor, up to the newest IMU sample: IMU-rate
+//  6. StateAt(t) (imu_rate_output.hpp): from the anchor through the buffered IMU samples (mean
+//     and covariance) for t at or after the anchor, up to the newest IMU sample: the IMU-rate
 //     output. For t inside the window, the smoothed state at or before t carried to t, with the
-//     covariance the estimator had for it when it was the newest (a filtered covariance, an upper
-//     bound of the smoothed one).
+//     covariance of the latest earlier anchor (a filtered covariance, an upper bound of the
+//     smoothed one). Older stamps: nullopt.
 #pragma once
 
 #include <memory>

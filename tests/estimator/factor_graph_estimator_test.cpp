@@ -352,5 +352,76 @@ TEST(FactorGraphEstimator, BadInputIsRejectedAndCountedAndTheOutputStaysFinite) 
   EXPECT_EQ(r.diagnostics.sensors.at("imu").accepted, static_cast<std::uint64_t>(imu_count));
 }
 
+TEST(FactorGraphEstimator, StateAtCoversTheWindowAndNothingElse) {
+  ScenarioOptions so;
+  so.duration_s = 15.0;
+  const Scenario sc = MakeScenario(so);
+  FactorGraphEstimator estimator(MakeSetup(so), TestOptions());
+  EXPECT_FALSE(estimator.StateAt(0).has_value());
+  for (const Measurement& m : sc.stream) estimator.Add(m);
+  const TimeNs newest = FromSeconds(15.0);
+  ASSERT_TRUE(estimator.StateAt(newest).has_value());
+  EXPECT_FALSE(estimator.StateAt(newest + 1).has_value());
+  EXPECT_FALSE(estimator.StateAt(FromSeconds(12.0)).has_value());  // left the window long ago
+  // Inside the window (1 s) and the reorder latency before the newest sample: smoothed states,
+  // also between IMU samples, with a covariance no smaller than at the newest stamp's anchor.
+  for (const double t_s : {14.0, 14.123456, 14.5, 14.9, 14.995}) {
+    const std::optional<StateEstimate> e = estimator.StateAt(FromSeconds(t_s));
+    ASSERT_TRUE(e.has_value()) << t_s;
+    const NavState truth = sc.Truth(FromSeconds(t_s));
+    EXPECT_LT((e->state.p_world - truth.p_world).norm(), 1e-3) << t_s;
+    EXPECT_LT(testing::RotationError(e->state, truth), 1e-4) << t_s;
+    EXPECT_TRUE(e->covariance.allFinite());
+    EXPECT_GT(e->covariance.diagonal().minCoeff(), 0.0);
+    const GeodeticPoint g = LocalEnuFrame(testing::kTestOrigin).ToGeodetic(e->state.p_world);
+    EXPECT_DOUBLE_EQ(e->latitude_deg, g.latitude_deg);
+    EXPECT_DOUBLE_EQ(e->altitude_m, g.altitude_m);
+  }
+  ASSERT_TRUE(estimator.origin().has_value());
+  EXPECT_DOUBLE_EQ(estimator.origin()->latitude_deg, testing::kTestOrigin.latitude_deg);
+}
+
+TEST(FactorGraphEstimator, UsesReceiverHeadingsAndGatesABadOne) {
+  ScenarioOptions so;
+  so.duration_s = 20.0;
+  so.antennas.push_back({"gnss_rear", Vec3(-0.8, 0.0, 1.0)});
+  Scenario sc = MakeScenario(so);
+  // The receiver's heading of the baseline rear -> front at each fix stamp, 0.12 s late; the one
+  // at 15 s is 0.2 rad off.
+  std::vector<Measurement> stream;
+  for (const Measurement& m : sc.stream) {
+    stream.push_back(m);
+    const auto* f = std::get_if<GnssFix>(&m);
+    if (f == nullptr || f->header.sensor_id != "gnss_front") continue;
+    const NavState truth = sc.Truth(f->header.stamp_ns);
+    const Vec3 b = truth.q_world_imu * Vec3(1.25, 0.0, 0.0);
+    DualAntennaHeading h;
+    h.header = f->header;
+    h.header.sensor_id = "gnss_heading";
+    h.header.arrival_ns += 20 * kNsPerMillisecond;
+    h.yaw_rad = std::atan2(b.y(), b.x()) + (h.header.stamp_ns == FromSeconds(15.0) ? 0.2 : 0.0);
+    h.pitch_rad = std::atan2(-b.z(), b.head<2>().norm());
+    h.yaw_sigma_rad = h.pitch_sigma_rad = 0.01;
+    stream.push_back(h);
+  }
+  std::stable_sort(stream.begin(), stream.end(), [](const auto& a, const auto& b) {
+    return HeaderOf(a).arrival_ns < HeaderOf(b).arrival_ns;
+  });
+  const std::string headings =
+      "dual_antenna_headings:\n  - {id: gnss_heading, main: gnss_rear, aux: gnss_front}\n";
+  const RunResult r = RunEstimator(sc, stream, MakeSetup(so, headings), TestOptions(), 12.0);
+  PrintRun("receiver headings", r, 12.0);
+  const auto& d = r.diagnostics.sensors;
+  EXPECT_EQ(r.diagnostics.initialization, "static (dual antenna)");
+  EXPECT_GT(d.at("gnss_heading").accepted, 150u);
+  EXPECT_EQ(Rejected(r, "gnss_heading", RejectReason::kMahalanobisGate), 1u);
+  EXPECT_EQ(d.at("gnss_heading").TotalRejected(), 1u);
+  EXPECT_EQ(d.count("gnss_rear+gnss_front"), 0u);  // no heading of its own from the fixes
+  EXPECT_EQ(d.at("gnss_front").TotalRejected(), 0u);
+  EXPECT_GE(d.at("gnss_front").accepted + 2, d.at("gnss_front").received);  // 2 still held
+  EXPECT_LT(r.max_position_error, 0.005);
+  EXPECT_LT(r.max_rotation_error * kRadToDeg, 0.01);
+}
+
 }  // namespace
 }  // namespace statebench::est

@@ -1,0 +1,72 @@
+#include "estimator/imu_rate_output.hpp"
+
+#include <algorithm>
+
+namespace statebench::est {
+namespace {
+
+// Latest element with stamp <= t_ns, or end if none.
+template <typename It, typename Stamp>
+It LatestAtOrBefore(It begin, It end, TimeNs t_ns, Stamp stamp) {
+  auto it =
+      std::upper_bound(begin, end, t_ns, [&](TimeNs t, const auto& x) { return t < stamp(x); });
+  return it == begin ? end : std::prev(it);
+}
+
+}  // namespace
+
+void ImuRateOutput::AddImu(const ImuSample& sample) {
+  imu_.push_back(sample);
+  if (running_) running_->Integrate(sample);
+}
+
+ImuPreintegration ImuRateOutput::Preintegrate(const NavState& from, TimeNs t_ns) const {
+  return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu_), from.t_ns, t_ns, noise_,
+                                        ImuBias{from.gyro_bias, from.accel_bias});
+}
+
+void ImuRateOutput::SetAnchor(const PropagatedState& anchor) {
+  anchor_ = anchor;
+  anchors_.push_back(anchor);
+  running_ = Preintegrate(anchor.state, imu_.back().header.stamp_ns);
+}
+
+NavState ImuRateOutput::Carry(const NavState& from, TimeNs t_ns) const {
+  return t_ns == from.t_ns ? from : Preintegrate(from, t_ns).Predict(from);
+}
+
+std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
+  if (!anchor_ || t_ns < anchor_->state.t_ns || t_ns > imu_.back().header.stamp_ns) {
+    return std::nullopt;
+  }
+  if (t_ns == running_->end_ns()) return Propagate(anchor_->state, anchor_->covariance, *running_);
+  return Propagate(anchor_->state, anchor_->covariance, Preintegrate(anchor_->state, t_ns));
+}
+
+std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,
+                                                       std::span<const NavState> window) const {
+  if (anchors_.empty() || imu_.empty() || t_ns < imu_.front().header.stamp_ns) return std::nullopt;
+  const auto from = LatestAtOrBefore(window.begin(), window.end(), t_ns,
+                                     [](const NavState& s) { return s.t_ns; });
+  if (from == window.end()) return std::nullopt;
+  auto cov = LatestAtOrBefore(anchors_.begin(), anchors_.end(), t_ns,
+                              [](const PropagatedState& s) { return s.state.t_ns; });
+  PropagatedState out;
+  out.state = Carry(*from, t_ns);
+  out.covariance =
+      cov == anchors_.end()
+          ? anchors_.front().covariance  // before the first anchor held
+          : Propagate(cov->state, cov->covariance, Preintegrate(cov->state, t_ns)).covariance;
+  return out;
+}
+
+void ImuRateOutput::Forget(TimeNs keep_ns) {
+  while (anchors_.size() > 1 && anchors_[1].state.t_ns <= keep_ns) anchors_.pop_front();
+  if (!anchors_.empty()) keep_ns = std::min(keep_ns, anchors_.front().state.t_ns);
+  // Erase in chunks: the vector must stay contiguous, erasing one sample at a time is O(n).
+  if (imu_.size() > 64 && imu_[32].header.stamp_ns < keep_ns) {
+    std::erase_if(imu_, [&](const ImuSample& s) { return s.header.stamp_ns < keep_ns; });
+  }
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,57 @@
+// The estimator's output at any stamp between smoother updates: the newest smoothed state (the
+// anchor) and its covariance carried through the buffered raw IMU samples (imu_propagation.hpp).
+//
+// For the newest sample a running preintegration from the anchor is extended sample by sample,
+// so the 100 Hz output costs one 15x15 propagation per sample. For stamps inside the smoother's
+// window the caller passes the smoothed states: the mean is the latest smoothed state at or
+// before the stamp carried to it; the covariance is that of the latest earlier anchor carried to
+// the stamp (a filtered covariance: an upper bound of the smoothed one).
+#pragma once
+
+#include <deque>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/measurements.hpp"
+#include "core/state.hpp"
+#include "estimator/imu_noise.hpp"
+#include "estimator/imu_preintegration.hpp"
+#include "estimator/imu_propagation.hpp"
+
+namespace statebench::est {
+
+class ImuRateOutput {
+ public:
+  explicit ImuRateOutput(const ImuNoise& noise) : noise_(noise) {}
+
+  // An accepted raw sample; stamps must increase.
+  void AddImu(const ImuSample& sample);
+  // After each update. The anchor's stamp must lie within the samples held.
+  void SetAnchor(const PropagatedState& anchor);
+
+  bool has_anchor() const { return anchor_.has_value(); }
+  const std::vector<ImuSample>& samples() const { return imu_; }
+
+  // Mean and covariance at t_ns in [anchor, newest sample]; nullopt outside.
+  std::optional<PropagatedState> AfterAnchor(TimeNs t_ns) const;
+  // At t_ns before the anchor, from the smoothed window states (oldest first); nullopt if t_ns
+  // is before the first of them or the samples held.
+  std::optional<PropagatedState> InWindow(TimeNs t_ns, std::span<const NavState> window) const;
+  // Mean of `from` carried to t_ns >= from.t_ns (biases kept).
+  NavState Carry(const NavState& from, TimeNs t_ns) const;
+
+  // Forgets what no stamp from keep_ns on needs (older anchors and samples).
+  void Forget(TimeNs keep_ns);
+
+ private:
+  ImuPreintegration Preintegrate(const NavState& from, TimeNs t_ns) const;
+
+  ImuNoise noise_;
+  std::vector<ImuSample> imu_;                // contiguous for ImuPreintegration::FromSamples
+  std::optional<PropagatedState> anchor_;     // newest state of the last update
+  std::optional<ImuPreintegration> running_;  // anchor -> newest sample
+  std::deque<PropagatedState> anchors_;       // earlier anchors, for stamps inside the window
+};
+
+}  // namespace statebench::est
