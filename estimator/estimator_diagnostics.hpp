@@ -16,7 +16,7 @@ enum class RejectReason {
   kNonFinite,            // NaN or infinite value
   kAbsurdValue,          // finite but physically impossible (e.g. 100 g, latitude 91 deg)
   kStampBackwards,       // IMU stamp not after the previous one, or a repeated stamp of a sensor
-  kStampInFuture,        // stamp far ahead of the newest IMU sample
+  kStampInFuture,        // stamp after the newest arrival stamp, or far ahead of the IMU
   kUnknownSensor,        // sensor id not in the sensor setup (or of the wrong type)
   kUnsupportedSensor,    // configured, but not used by this estimator (yet): lidar, encoders
   kNoFix,                // GNSS status "no fix"

@@ -22,7 +22,11 @@ namespace statebench::est {
 namespace {
 
 constexpr TimeNs kMaxFutureNs = 2 * kNsPerSecond;  // stamp ahead of the newest IMU sample
-constexpr std::size_t kStampsKeptPerSensor = 64;   // for repeated-stamp detection
+// A measurement is taken before it arrives: a stamp later than the newest arrival stamp seen
+// (plus a clock tolerance) is bogus. A bogus IMU stamp would otherwise make every later sample
+// look like it goes backwards.
+constexpr TimeNs kArrivalToleranceNs = 100 * kNsPerMillisecond;
+constexpr std::size_t kStampsKeptPerSensor = 64;  // for repeated-stamp detection
 
 SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
                                      const FactorGraphOptions& o) {
@@ -82,6 +86,7 @@ struct FactorGraphEstimator::Impl {
   EstimatorDiagnostics diag;
 
   TimeNs newest_imu_ns = INT64_MIN;
+  TimeNs newest_arrival_ns = INT64_MIN;  // arrival stamps given (> 0) so far
   std::map<std::string, std::set<TimeNs>> seen_stamps;
   bool initialized = false;
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
@@ -100,6 +105,7 @@ struct FactorGraphEstimator::Impl {
     if (id != setup.imu_id) return Reject(id, RejectReason::kUnknownSensor);
     if (const auto why = CheckImuSample(s)) return Reject(id, *why);
     if (s.header.stamp_ns <= newest_imu_ns) return Reject(id, RejectReason::kStampBackwards);
+    if (AfterArrival(s.header)) return Reject(id, RejectReason::kStampInFuture);
     ++Counters(id).accepted;
     newest_imu_ns = s.header.stamp_ns;
     output.AddImu(s);
@@ -107,8 +113,17 @@ struct FactorGraphEstimator::Impl {
     ReleaseUpTo(s.header.stamp_ns - latency_ns);
   }
 
+  // Only when the stream carries arrival stamps (a reader that has none leaves them 0).
+  bool AfterArrival(const MeasurementHeader& h) const {
+    return newest_arrival_ns > 0 && h.stamp_ns > newest_arrival_ns + kArrivalToleranceNs;
+  }
+
   // Common arrival checks of GNSS fixes and headings; true if the measurement may go on.
   bool CheckStamp(const MeasurementHeader& h) {
+    if (AfterArrival(h)) {
+      Reject(h.sensor_id, RejectReason::kStampInFuture);
+      return false;
+    }
     if (newest_imu_ns != INT64_MIN && h.stamp_ns > newest_imu_ns + kMaxFutureNs) {
       Reject(h.sensor_id, RejectReason::kStampInFuture);
       return false;
@@ -138,6 +153,7 @@ struct FactorGraphEstimator::Impl {
   void Add(const Measurement& m) {
     const MeasurementHeader& h = HeaderOf(m);
     ++Counters(h.sensor_id).received;
+    if (h.arrival_ns > 0) newest_arrival_ns = std::max(newest_arrival_ns, h.arrival_ns);
     if (const auto* s = std::get_if<ImuSample>(&m)) return AddImu(*s);
     if (const auto* f = std::get_if<GnssFix>(&m)) {
       return AddOther(*f, setup.FindAntenna(h.sensor_id) != nullptr, &CheckGnssFix);
@@ -185,7 +201,16 @@ struct FactorGraphEstimator::Impl {
     initializer.AddImu(s);
     const std::optional<InitialState> init = initializer.TryInitialize();
     if (!init) return;
-    smoother.Initialize(init->state, init->covariance);
+    const NavState& x = init->state;
+    if (!x.q_world_imu.coeffs().allFinite() || !x.p_world.allFinite() || !x.v_world.allFinite() ||
+        !init->covariance.allFinite()) {
+      return;  // a degenerate geometry (e.g. fixes on one spot): wait for more data
+    }
+    try {
+      smoother.Initialize(init->state, init->covariance);
+    } catch (const InputError&) {
+      return;  // covariance not positive definite: same
+    }
     initialized = true;
     diag.initialized = true;
     diag.initialized_at_ns = init->state.t_ns;
@@ -272,6 +297,8 @@ struct FactorGraphEstimator::Impl {
   void AddHeading(const HeadingInput& in) {
     const std::string& id = in.counter_id;
     const TimeNs t = in.heading.header.stamp_ns;
+    // A heading paired from fixes on one spot has no direction (NaN).
+    if (const auto why = CheckDualAntennaHeading(in.heading)) return Reject(id, *why);
     if (!initialized) {
       ++Counters(id).accepted;
       return initializer.AddHeading(in.heading, in.baseline_imu);
