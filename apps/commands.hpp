@@ -8,5 +8,6 @@
 namespace statebench::app {
 
 int RunSimulate(const std::vector<std::string>& args);
+int RunRecord(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

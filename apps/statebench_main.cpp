@@ -12,6 +12,7 @@ constexpr const char* kUsage =
     "usage: statebench <command> [args]\n"
     "commands:\n"
     "  simulate SCENARIO.yaml --out DIR   exact ground truth of a scenario (SUMO + vehicle model)\n"
+    "  record SCENARIO.yaml --out LOG     simulate every sensor of the scenario's setup into a log\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
   if (command == "simulate") return statebench::app::RunSimulate(args);
+  if (command == "record") return statebench::app::RunRecord(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

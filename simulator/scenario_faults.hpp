@@ -1,0 +1,34 @@
+// The `faults:` field of a scenario (docs/scenarios.md): degradations injected into the sensors
+// of its setup.
+//
+//   faults:
+//     gnss_outages:              # appended to the receivers' own `outages` (no fix in [start,
+//     end))
+//       - {start_s: 60.0}                               # every GNSS receiver, to the end
+//       - {sensors: [gnss_front], start_s: 20.0, end_s: 35.0}
+//     urban_canyon: true         # or {elevation_mask_deg: 10, blocking_range_m: 1000}
+//
+// `urban_canyon` lets the world's buildings, trees and terrain block the satellites of a synthetic
+// constellation, which degrades the GNSS fixes (fixed -> float -> single -> none) by the visible
+// count (sensors/urban_canyon_visibility.hpp). It is off unless asked for: the generated towns'
+// streets are deep canyons that would take the RTK fix away most of the time.
+#pragma once
+
+#include <optional>
+
+#include "core/yaml_node.hpp"
+#include "sensors/sensor_setup.hpp"
+#include "sensors/urban_canyon_visibility.hpp"
+
+namespace statebench::sim {
+
+struct ScenarioFaults {
+  std::optional<sensors::SkyViewOptions> urban_canyon;  // set: satellites blocked by the world
+};
+
+// Applies `faults` to `setup` and returns the faults that are not setup options. Throws
+// InputError "file:line:col: field 'faults...': ..." on unknown keys, bad values, or sensor ids
+// that are not GNSS receivers of the setup.
+ScenarioFaults ApplyFaults(const YamlNode& faults, sensors::SensorSetup* setup);
+
+}  // namespace statebench::sim

@@ -1,0 +1,131 @@
+// The sensor setup a scenario names, and its faults: the paper scenarios, file resolution,
+// inline setups, and errors that name the file, line and field.
+#include "simulator/scenario_sensors.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "sumo_test_support.hpp"
+
+namespace statebench::sim {
+namespace {
+
+using testing::GridScenarioParts;
+using testing::InputErrorOf;
+using testing::TempDir;
+using testing::WriteFile;
+
+std::filesystem::path SourceDir() {
+  const char* dir = std::getenv("STATEBENCH_SOURCE_DIR");
+  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
+}
+
+const sensors::GnssOptions& Gnss(const ScenarioSensors& s, const std::string& id) {
+  return std::get<sensors::GnssOptions>(s.setup.Find(id)->options);
+}
+
+// A grid scenario with the given `sensors:` and `faults:` lines, in `dir`.
+Scenario GridWith(const TempDir& dir, const std::string& sensors_and_faults) {
+  GridScenarioParts parts;
+  parts.rest += sensors_and_faults;
+  return LoadScenario(WriteFile(dir.path() / "town" / "grid.yaml", parts.Text()));
+}
+
+TEST(ScenarioSensors, PaperScenariosNameTheirSetupsAndSetup3LosesGnssAt60s) {
+  for (const std::string name : {"setup1_quadricycle", "setup2_quadricycle", "setup3_shuttle"}) {
+    const Scenario scenario = LoadScenario(SourceDir() / "scenarios/paper" / (name + ".yaml"));
+    const ScenarioSensors s = LoadScenarioSensors(scenario);
+    EXPECT_EQ(s.setup.name, name);  // the setup file, not the scenario of the same name
+    EXPECT_EQ(std::filesystem::path(s.setup.source).parent_path().filename(), "setups");
+    EXPECT_NE(s.setup_yaml.find("name: " + name), std::string::npos);
+    EXPECT_FALSE(s.faults.urban_canyon.has_value());
+  }
+  const ScenarioSensors s3 =
+      LoadScenarioSensors(LoadScenario(SourceDir() / "scenarios/paper/setup3_shuttle.yaml"));
+  const auto& outages = Gnss(s3, "gnss_roof").outages;
+  ASSERT_EQ(outages.size(), 1u);
+  EXPECT_EQ(outages[0].start_s, 60.0);
+  EXPECT_TRUE(std::isinf(outages[0].end_s));
+  const ScenarioSensors s1 =
+      LoadScenarioSensors(LoadScenario(SourceDir() / "scenarios/paper/setup1_quadricycle.yaml"));
+  EXPECT_TRUE(Gnss(s1, "gnss_front").outages.empty());
+}
+
+TEST(ScenarioSensors, FindsSetupsLikeVehiclesAndAppliesFaults) {
+  TempDir dir;
+  // A setup next to the scenario wins over the stock one of the same name.
+  WriteFile(dir.path() / "town" / "mine.yaml",
+            "name: local_setup\nsensors:\n"
+            "  - {type: gnss, id: ant_a, rate_hz: 5, latency_s: 0.1, mode: single,\n"
+            "     T_body_sensor: {translation: [0, 0, 1.5]}}\n"
+            "  - {type: gnss, id: ant_b, rate_hz: 5, latency_s: 0.1, mode: single,\n"
+            "     T_body_sensor: {translation: [1, 0, 1.5]}}\n"
+            "  - {type: speed_encoder, id: speed, rate_hz: 50, latency_s: 0.01,\n"
+            "     distance_per_tick_m: 0.001, T_body_sensor: {translation: [0, 0, 0]}}\n");
+  const ScenarioSensors local =
+      LoadScenarioSensors(GridWith(dir,
+                                   "sensors: mine\n"
+                                   "faults:\n"
+                                   "  gnss_outages:\n"
+                                   "    - {start_s: 10.0, end_s: 20.0}\n"
+                                   "    - {sensors: [ant_b], start_s: 30.0}\n"
+                                   "  urban_canyon: {elevation_mask_deg: 15}\n"));
+  EXPECT_EQ(local.setup.name, "local_setup");
+  ASSERT_EQ(Gnss(local, "ant_a").outages.size(), 1u);
+  ASSERT_EQ(Gnss(local, "ant_b").outages.size(), 2u);
+  EXPECT_EQ(Gnss(local, "ant_b").outages[1].start_s, 30.0);
+  ASSERT_TRUE(local.faults.urban_canyon.has_value());
+  EXPECT_EQ(local.faults.urban_canyon->elevation_mask_deg, 15.0);
+
+  // Stock setups through scenarios/setups (STATEBENCH_SOURCE_DIR or the working folder).
+  const ScenarioSensors stock = LoadScenarioSensors(
+      GridWith(dir, "sensors: setup2_quadricycle\nfaults: {urban_canyon: true}\n"));
+  EXPECT_EQ(stock.setup.name, "setup2_quadricycle");
+  EXPECT_TRUE(stock.faults.urban_canyon.has_value());
+
+  // An inline setup.
+  const ScenarioSensors inline_setup = LoadScenarioSensors(
+      GridWith(dir,
+               "sensors:\n  name: inline\n  sensors:\n"
+               "    - {type: imu, id: imu, rate_hz: 100, latency_s: 0, preset: tactical,\n"
+               "       T_body_sensor: {translation: [0, 0, 0.5]}}\n"));
+  EXPECT_EQ(inline_setup.setup.name, "inline");
+  EXPECT_NE(inline_setup.setup_yaml.find("tactical"), std::string::npos);
+}
+
+TEST(ScenarioSensors, ErrorsNameFileLineAndField) {
+  TempDir dir;
+  const auto error = [&](const std::string& lines) {
+    return InputErrorOf([&] { LoadScenarioSensors(GridWith(dir, lines)); });
+  };
+  EXPECT_NE(error("").find("field 'sensors': the scenario names no sensor setup"),
+            std::string::npos);
+  const std::string unknown = error("sensors: setup9\n");
+  EXPECT_NE(unknown.find("grid.yaml:"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("field 'sensors': unknown sensor setup 'setup9'"), std::string::npos)
+      << unknown;
+  const std::string no_such = error(
+      "sensors: setup3_shuttle\nfaults:\n  gnss_outages:\n    - {sensors: [gnss_x], start_s: 1}\n");
+  EXPECT_NE(no_such.find("field 'faults.gnss_outages[0].sensors[0]': no sensor 'gnss_x'"),
+            std::string::npos)
+      << no_such;
+  const std::string not_gnss = error(
+      "sensors: setup3_shuttle\nfaults:\n  gnss_outages:\n    - {sensors: [imu], start_s: 1}\n");
+  EXPECT_NE(not_gnss.find("'imu' is not a GNSS receiver"), std::string::npos) << not_gnss;
+  const std::string order =
+      error("sensors: setup3_shuttle\nfaults:\n  gnss_outages:\n    - {start_s: 5, end_s: 4}\n");
+  EXPECT_NE(order.find("field 'faults.gnss_outages[0].end_s': must be after start_s"),
+            std::string::npos)
+      << order;
+  EXPECT_NE(
+      error("sensors: setup3_shuttle\nfaults: {gnss_outage: {start_s: 5}}\n").find("gnss_outage"),
+      std::string::npos);
+  EXPECT_NE(error("sensors: setup3_shuttle\nfaults: {urban_canyon: {elevation_mask_deg: 95}}\n")
+                .find("field 'faults.urban_canyon.elevation_mask_deg': must be in [0, 90)"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace statebench::sim
