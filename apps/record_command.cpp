@@ -10,6 +10,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress_bar.hpp"
+#include "apps/scenario_overrides.hpp"
 #include "core/error.hpp"
 #include "sensors/log_format.hpp"
 #include "sensors/log_writer.hpp"
@@ -40,29 +41,15 @@ std::string StatusCounts(const std::map<GnssFixStatus, std::size_t>& counts) {
 }  // namespace
 
 int RunRecord(const std::vector<std::string>& argv) {
-  std::unique_ptr<CliArgs> args;
-  try {
-    args = std::make_unique<CliArgs>(argv, std::set<std::string>{"quiet", "help"},
-                                     std::set<std::string>{"out", "seed", "duration"});
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "statebench record: %s\n%s", e.what(), kUsage);
-    return 2;
-  }
-  if (args->Flag("help")) {
-    std::printf("%s", kUsage);
-    return 0;
-  }
-  if (args->positional().size() != 1 || !args->Option("out")) {
-    std::fprintf(stderr, "%s", kUsage);
-    return 2;
-  }
+  const auto parsed =
+      ParseCommand({"record", kUsage, {"quiet"}, {"out", "seed", "duration"}, 1, {"out"}}, argv);
+  if (const int* code = std::get_if<int>(&parsed)) return *code;
+  const CliArgs* args = &std::get<CliArgs>(parsed);
   const std::filesystem::path out_dir = *args->Option("out");
   const bool quiet = args->Flag("quiet");
   const auto wall_start = std::chrono::steady_clock::now();
   try {
-    sim::Scenario scenario = sim::LoadScenario(args->positional()[0]);
-    if (const auto seed = args->Option("seed")) scenario.seed = std::stoull(*seed);
-    if (const auto duration = args->Option("duration")) scenario.duration_s = std::stod(*duration);
+    const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
     if (std::filesystem::exists(out_dir / "log.yaml")) {
       throw InputError(out_dir.string() + ": already holds a log (log.yaml); remove it or " +
                        "choose another --out");
@@ -125,6 +112,9 @@ int RunRecord(const std::vector<std::string>& argv) {
     std::printf("wall %.1f s (%.1f s for truth + sensors + writing: %.1fx real time)\n", wall_s,
                 synthesis_s, synthesis_s > 0 ? t_s / synthesis_s : 0.0);
     return 0;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "statebench record: %s\n", e.what());
+    return 2;
   } catch (const InputError& e) {
     if (!quiet) std::fprintf(stderr, "\n");
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -10,6 +10,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress_bar.hpp"
+#include "apps/scenario_overrides.hpp"
 #include "core/error.hpp"
 #include "core/truth_io.hpp"
 #include "simulator/scenario.hpp"
@@ -46,28 +47,14 @@ nlohmann::json SummaryJson(const sim::TruthSummary& s, double wall_s) {
 }  // namespace
 
 int RunSimulate(const std::vector<std::string>& argv) {
-  std::unique_ptr<CliArgs> args;
-  try {
-    args = std::make_unique<CliArgs>(argv, std::set<std::string>{"quiet", "help"},
-                                     std::set<std::string>{"out", "seed", "duration"});
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "statebench simulate: %s\n%s", e.what(), kUsage);
-    return 2;
-  }
-  if (args->Flag("help")) {
-    std::printf("%s", kUsage);
-    return 0;
-  }
-  if (args->positional().size() != 1 || !args->Option("out")) {
-    std::fprintf(stderr, "%s", kUsage);
-    return 2;
-  }
+  const auto parsed = ParseCommand(
+      {"simulate", kUsage, {"quiet"}, {"out", "seed", "duration"}, 1, {"out"}}, argv);
+  if (const int* code = std::get_if<int>(&parsed)) return *code;
+  const CliArgs* args = &std::get<CliArgs>(parsed);
   const std::filesystem::path out_dir = *args->Option("out");
   const auto wall_start = std::chrono::steady_clock::now();
   try {
-    sim::Scenario scenario = sim::LoadScenario(args->positional()[0]);
-    if (const auto seed = args->Option("seed")) scenario.seed = std::stoull(*seed);
-    if (const auto duration = args->Option("duration")) scenario.duration_s = std::stod(*duration);
+    const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
     std::filesystem::create_directories(out_dir);
 
     const bool quiet = args->Flag("quiet");
@@ -111,6 +98,9 @@ int RunSimulate(const std::vector<std::string>& argv) {
     return 0;
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "statebench simulate: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

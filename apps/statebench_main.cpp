@@ -13,6 +13,7 @@ constexpr const char* kUsage =
     "commands:\n"
     "  simulate SCENARIO.yaml --out DIR   exact ground truth of a scenario (SUMO + vehicle model)\n"
     "  record SCENARIO.yaml --out LOG     simulate every sensor of the scenario's setup into a log\n"
+    "  estimate LOG --out DIR             run the factor-graph estimator on a recorded log\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 2, argv + argc);
   if (command == "simulate") return statebench::app::RunSimulate(args);
   if (command == "record") return statebench::app::RunRecord(args);
+  if (command == "estimate") return statebench::app::RunEstimate(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

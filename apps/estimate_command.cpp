@@ -1,0 +1,186 @@
+// statebench estimate LOG --out DIR [--config OPTIONS.yaml] [--setup SETUP.yaml]
+//                        [--full-covariance] [--quiet]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/cli_args.hpp"
+#include "apps/commands.hpp"
+#include "apps/progress_bar.hpp"
+#include "core/error.hpp"
+#include "core/truth_io.hpp"
+#include "estimator/estimator_config.hpp"
+#include "estimator/factor_graph_estimator.hpp"
+#include "reports/estimate_writer.hpp"
+#include "reports/metrics_json.hpp"
+#include "sensors/log_reader.hpp"
+
+namespace statebench::app {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: statebench estimate LOG --out DIR [--config OPTIONS.yaml] [--setup SETUP.yaml]\n"
+    "                           [--full-covariance] [--quiet]\n"
+    "  Runs the factor-graph estimator on a recorded log (simulated or converted from a real\n"
+    "  vehicle) and writes the estimate at IMU rate (estimate.csv with the covariance diagonal,\n"
+    "  or the full covariance with --full-covariance; estimate.tum), diagnostics.json, and\n"
+    "  metrics.json when the log holds truth. --config defaults to\n"
+    "  scenarios/estimators/factor_graph.yaml, --setup to the log's own sensor setup.\n";
+
+std::filesystem::path DefaultEstimatorConfig() {
+  const char* src = std::getenv("STATEBENCH_SOURCE_DIR");
+  return std::filesystem::path(src ? src : ".") / "scenarios/estimators/factor_graph.yaml";
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5));
+  return v[i];
+}
+
+nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
+  nlohmann::json sensors = nlohmann::json::object();
+  for (const auto& [id, c] : d.sensors) {
+    nlohmann::json rejected = nlohmann::json::object();
+    for (const auto& [reason, n] : c.rejected) {
+      rejected[std::string(est::RejectReasonName(reason))] = n;
+    }
+    sensors[id] = {{"received", c.received},
+                   {"accepted", c.accepted},
+                   {"rejected", rejected},
+                   {"downweighted", c.downweighted}};
+  }
+  std::vector<double> times;
+  double iterations = 0.0;
+  std::size_t unusable = 0;
+  for (const auto& u : d.updates) {
+    times.push_back(u.solve_time_s * 1e3);
+    iterations += u.iterations;
+    unusable += u.usable ? 0 : 1;
+  }
+  double mean = 0.0;
+  for (const double t : times) mean += t;
+  if (!times.empty()) mean /= static_cast<double>(times.size());
+  return {{"initialized", d.initialized},
+          {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
+          {"initialization", d.initialization},
+          {"sensors", sensors},
+          {"updates",
+           {{"count", d.updates.size()},
+            {"unusable", unusable},
+            {"mean_iterations", d.updates.empty() ? 0.0 : iterations / d.updates.size()},
+            {"solve_ms_mean", mean},
+            {"solve_ms_median", Percentile(times, 0.5)},
+            {"solve_ms_p95", Percentile(times, 0.95)},
+            {"solve_ms_p99", Percentile(times, 0.99)},
+            {"solve_ms_max", times.empty() ? 0.0 : *std::max_element(times.begin(), times.end())}}}};
+}
+
+}  // namespace
+
+int RunEstimate(const std::vector<std::string>& argv) {
+  const auto parsed = ParseCommand({"estimate", kUsage, {"quiet", "full-covariance"},
+                                    {"out", "config", "setup"}, 1, {"out"}},
+                                   argv);
+  if (const int* code = std::get_if<int>(&parsed)) return *code;
+  const CliArgs* args = &std::get<CliArgs>(parsed);
+  const std::filesystem::path log_dir = args->positional()[0];
+  const std::filesystem::path out_dir = *args->Option("out");
+  const bool quiet = args->Flag("quiet");
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    sensors::LogReader reader(log_dir);
+    std::filesystem::path setup_file;
+    if (const auto s = args->Option("setup")) {
+      setup_file = *s;
+    } else if (const auto s2 = reader.setup_file()) {
+      setup_file = *s2;
+    } else {
+      throw InputError((log_dir / "log.yaml").string() +
+                       ": the log names no sensor setup; pass --setup SETUP.yaml");
+    }
+    const est::EstimatorSensorSetup setup = est::LoadEstimatorSensorSetup(setup_file);
+    est::FactorGraphOptions options =
+        est::LoadFactorGraphOptions(args->Option("config").value_or(DefaultEstimatorConfig().string()));
+    // Report in the log's own ENU frame, so the estimate compares with its truth directly.
+    if (!options.origin && reader.manifest().origin) options.origin = reader.manifest().origin;
+
+    std::vector<TruthSample> truth;
+    std::optional<std::string> truth_error;
+    if (reader.manifest().truth_csv) {
+      TruthReadResult t = ReadTruthCsv(log_dir / *reader.manifest().truth_csv);
+      truth = std::move(t.samples);
+      truth_error = t.error;
+    }
+    const double end_s = truth.empty() ? 0.0 : ToSeconds(truth.back().t_ns);
+
+    std::filesystem::create_directories(out_dir);
+    est::FactorGraphEstimator estimator(setup, options);
+    reports::EstimateWriter writer(out_dir, args->Flag("full-covariance"));
+    std::vector<StateEstimate> estimates;
+    ProgressBar bar("estimate " + log_dir.filename().string());
+    std::size_t n = 0;
+    while (const auto m = reader.Next()) {
+      estimator.Add(*m);
+      const auto* imu = std::get_if<ImuSample>(&*m);
+      if (imu == nullptr || imu->header.sensor_id != setup.imu_id) continue;
+      if (const auto e = estimator.StateAt(imu->header.stamp_ns)) {
+        writer.Write(*e);
+        estimates.push_back(*e);
+      }
+      if (!quiet && ++n % 500 == 0) {
+        char detail[64];
+        std::snprintf(detail, sizeof(detail), "t=%.0f s", ToSeconds(imu->header.stamp_ns));
+        bar.Update(end_s > 0 ? ToSeconds(imu->header.stamp_ns) / end_s : 0.0, detail);
+      }
+    }
+    writer.Close();
+    if (!quiet) bar.Finish();
+    const est::EstimatorDiagnostics diagnostics = estimator.diagnostics();
+    std::ofstream(out_dir / "diagnostics.json") << DiagnosticsJson(diagnostics).dump(2) << "\n";
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    std::printf("%s: %zu estimates at IMU rate -> %s (wall %.1f s)\n", estimator.name().c_str(),
+                estimates.size(), out_dir.string().c_str(), wall_s);
+    if (!truth.empty()) {
+      reports::MetricsOptions mopt;
+      mopt.skip_before_ns = diagnostics.initialized_at_ns;
+      const auto reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
+      const reports::TrajectoryMetrics metrics =
+          reports::ComputeTrajectoryMetrics(estimates, reference, mopt);
+      nlohmann::json j = reports::ToJson(metrics);
+      j["estimator"] = estimator.name();
+      j["log"] = log_dir.string();
+      j["wall_time_s"] = wall_s;
+      std::ofstream(out_dir / "metrics.json") << j.dump(2) << "\n";
+      std::printf(
+          "RMSE  x %.3f m  y %.3f m  z %.3f m  yaw %.4f rad  v_long %.3f m/s  | APE %.3f m  "
+          "NEES(6) %.2f  over %.0f m\n",
+          metrics.rmse_x_m, metrics.rmse_y_m, metrics.rmse_z_m, metrics.rmse_yaw_rad,
+          metrics.rmse_v_longitudinal_mps, metrics.ape_translation_m.rmse, metrics.mean_pose_nees,
+          metrics.distance_m);
+    }
+    if (truth_error) std::fprintf(stderr, "warning: truth: %s\n", truth_error->c_str());
+    if (reader.error()) {
+      std::fprintf(stderr, "error: %s (the estimate up to that point was written)\n",
+                   reader.error()->c_str());
+      return 2;
+    }
+    return 0;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace statebench::app
