@@ -1,0 +1,92 @@
+#include "estimator/lidar_preprocessing.hpp"
+
+#include <cmath>
+#include <unordered_set>
+
+namespace statebench::est {
+namespace {
+
+struct VoxelKeyHash {
+  std::size_t operator()(const Eigen::Vector3i& v) const {
+    return static_cast<std::size_t>(static_cast<std::uint32_t>(v.x()) * 73856093u ^
+                                    static_cast<std::uint32_t>(v.y()) * 19349669u ^
+                                    static_cast<std::uint32_t>(v.z()) * 83492791u);
+  }
+};
+
+}  // namespace
+
+SweepMotion ConstantVelocitySweepMotion(const SE3& T_prev_curr, double dt_s) {
+  const Vec6 twist = T_prev_curr.Log() / dt_s;  // (v, omega) in the lidar frame
+  return [twist](double t_s) { return SE3::Exp(t_s * twist); };
+}
+
+SweepMotion StaticSweepMotion() {
+  return [](double) { return SE3::Identity(); };
+}
+
+std::vector<TimedPoint> FilterScanPoints(const std::vector<LidarPoint>& points,
+                                         const LidarFilterOptions& options,
+                                         LidarFilterStats* stats) {
+  LidarFilterStats s;
+  s.points_in = points.size();
+  std::vector<TimedPoint> kept;
+  kept.reserve(points.size());
+  const double min2 = options.min_range_m * options.min_range_m;
+  const double max2 = options.max_range_m * options.max_range_m;
+  for (const LidarPoint& lp : points) {
+    const Vec3 p(lp.x, lp.y, lp.z);
+    if (!p.allFinite() || !std::isfinite(lp.t)) {
+      ++s.non_finite;
+      continue;
+    }
+    const double r2 = p.squaredNorm();
+    if (r2 < min2 || r2 > max2) {
+      ++s.out_of_range;
+      continue;
+    }
+    kept.push_back({p, static_cast<double>(lp.t)});
+  }
+  s.kept = kept.size();
+  if (stats != nullptr) *stats = s;
+  return kept;
+}
+
+std::vector<Vec3> DeskewPoints(const std::vector<TimedPoint>& points, const SweepMotion& motion) {
+  std::vector<Vec3> out;
+  out.reserve(points.size());
+  // Points of one firing share a time: evaluate the motion once per distinct consecutive time.
+  double last_t = std::nan("");
+  SE3 T_stamp_t;
+  for (const TimedPoint& tp : points) {
+    if (tp.t_s != last_t) {
+      T_stamp_t = motion(tp.t_s);
+      last_t = tp.t_s;
+    }
+    out.push_back(T_stamp_t * tp.p_lidar);
+  }
+  return out;
+}
+
+std::vector<Vec3> PositionsOf(const std::vector<TimedPoint>& points) {
+  std::vector<Vec3> out;
+  out.reserve(points.size());
+  for (const TimedPoint& tp : points) out.push_back(tp.p_lidar);
+  return out;
+}
+
+std::vector<Vec3> VoxelDownsample(const std::vector<Vec3>& points, double voxel_size_m) {
+  std::unordered_set<Eigen::Vector3i, VoxelKeyHash> occupied;
+  occupied.reserve(points.size());
+  std::vector<Vec3> out;
+  for (const Vec3& p : points) {
+    const Vec3 s = p / voxel_size_m;
+    const Eigen::Vector3i key(static_cast<int>(std::floor(s.x())),
+                              static_cast<int>(std::floor(s.y())),
+                              static_cast<int>(std::floor(s.z())));
+    if (occupied.insert(key).second) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace statebench::est
