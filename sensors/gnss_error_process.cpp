@@ -19,10 +19,18 @@ GnssErrorProcess::GnssErrorProcess(const GnssOptions& options, std::uint64_t see
                                    const std::string& stream_name)
     : options_(options),
       white_rng_(MakeRng(seed, stream_name + "/white")),
-      gm_rng_(MakeRng(seed, stream_name + "/gauss_markov")),
+      gm_rng_(MakeRng(seed, "gnss_common_mode/gauss_markov")),
       multipath_rng_(MakeRng(seed, stream_name + "/multipath")) {
   if (options_.correlated_fraction > 0.0) {
     unit_gm_ = GaussMarkov3(1.0, options_.gauss_markov_tau_s, gm_rng_, gm_normal_);
+  }
+}
+
+void GnssErrorProcess::AdvanceCommonMode(TimeNs t_ns) {
+  const double step_s = ToSeconds(kCommonModeStep);
+  while (gm_grid_ns_ + kCommonModeStep <= t_ns) {
+    unit_gm_.Step(step_s, gm_rng_, gm_normal_);
+    gm_grid_ns_ += kCommonModeStep;
   }
 }
 
@@ -63,7 +71,7 @@ Vec3 GnssErrorProcess::Sample(TimeNs t_ns, const GnssAccuracy& accuracy) {
     for (int i = 0; i < 3; ++i) unit[i] = w * white_normal_(white_rng_);
   }
   if (f > 0.0) {
-    if (last_t_ns_) unit_gm_.Step(ToSeconds(t_ns - *last_t_ns_), gm_rng_, gm_normal_);
+    AdvanceCommonMode(t_ns);
     unit += std::sqrt(f) * unit_gm_.value();
   }
   last_t_ns_ = t_ns;
