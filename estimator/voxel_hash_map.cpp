@@ -1,5 +1,6 @@
 #include "estimator/voxel_hash_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -72,9 +73,10 @@ void VoxelHashMap::NeighborsWithin(const Vec3& query_world, double radius_m,
   out->clear();
   const Voxel center = VoxelOf(query_world);
   const double r2 = radius_m * radius_m;
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
+  const int reach = std::max(1, static_cast<int>(std::ceil(radius_m / options_.voxel_size_m)));
+  for (int dx = -reach; dx <= reach; ++dx) {
+    for (int dy = -reach; dy <= reach; ++dy) {
+      for (int dz = -reach; dz <= reach; ++dz) {
         const auto it = voxels_.find(center + Voxel(dx, dy, dz));
         if (it == voxels_.end()) continue;
         for (const Vec3& p : it->second) {

@@ -39,7 +39,8 @@ class VoxelHashMap {
   // Closest stored point to query_world among the 27 neighbouring voxels. Returns false when
   // they are all empty.
   bool NearestNeighbor(const Vec3& query_world, Vec3* nearest_world, double* distance_m) const;
-  // All stored points within radius_m of query_world among the 27 neighbouring voxels.
+  // All stored points within radius_m of query_world (searching ceil(radius / voxel) voxels
+  // around the query's voxel, at least the 27 neighbours).
   void NeighborsWithin(const Vec3& query_world, double radius_m, std::vector<Vec3>* out) const;
 
   std::vector<Vec3> Points() const;
