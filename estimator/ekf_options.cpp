@@ -52,6 +52,7 @@ bool EkfOptions::IsValid(std::string* why) const {
       {gyro_sigma_radps, "gyro_sigma_radps"},
       {speed_sigma_mps, "speed_sigma_mps"},
       {course_min_distance_m, "course_min_distance_m"},
+      {course_max_yaw_sigma_rad, "course_max_yaw_sigma_rad"},
       {init_yaw_sigma_rad, "init_yaw_sigma_rad"},
       {init_speed_sigma_mps, "init_speed_sigma_mps"},
       {init_gyro_bias_sigma_radps, "init_gyro_bias_sigma_radps"},

@@ -46,7 +46,8 @@ struct EkfOptions {
   double speed_sigma_mps = 0.05;       // speed encoder noise
   // Initialisation (from GNSS course and encoder speed).
   double course_min_distance_m = 5.0;
-  double init_yaw_sigma_rad = 0.1;
+  double course_max_yaw_sigma_rad = 0.15;  // wait for this GNSS course precision (chord)
+  double init_yaw_sigma_rad = 0.1;         // slip, chord vs tangent; added to the GNSS part
   double init_speed_sigma_mps = 0.5;
   double init_gyro_bias_sigma_radps = 0.01;
   double init_accel_bias_sigma_mps2 = 0.1;

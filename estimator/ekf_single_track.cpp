@@ -77,6 +77,7 @@ struct EkfSingleTrackEstimator::Impl {
 
   // Initialisation: first fix of the course antenna.
   std::optional<std::pair<TimeNs, Vec3>> first_fix;
+  Mat3 first_fix_covariance = Mat3::Identity();
 
   // Filter.
   bool initialized = false;
@@ -229,10 +230,11 @@ struct EkfSingleTrackEstimator::Impl {
     return y.dot(S.ldlt().solve(y));
   }
 
-  // Gate with reopening: true if the measurement passes.
-  bool Gate(double d2, double threshold, TimeNs stamp_ns, std::optional<TimeNs> last_accepted) {
+  // Gate with reopening: true if the measurement passes, or if none of its sensor has been
+  // accepted for gate_reset_s (since last_accepted_ns: the last one, or the initialisation).
+  bool Gate(double d2, double threshold, TimeNs stamp_ns, TimeNs last_accepted_ns) const {
     if (d2 <= threshold) return true;
-    return last_accepted && ToSeconds(stamp_ns - *last_accepted) > options.gate_reset_s;
+    return ToSeconds(stamp_ns - last_accepted_ns) > options.gate_reset_s;
   }
 
   // ---- measurement updates -------------------------------------------------------------------
@@ -255,8 +257,7 @@ struct EkfSingleTrackEstimator::Impl {
     Eigen::Matrix<double, 1, 1> R(options.speed_sigma_mps * options.speed_sigma_mps);
     const auto last = last_accepted_speed_ns.find(id);
     if (!Gate(Mahalanobis<1>(y, H, R), options.speed_gate_chi2, m.header.stamp_ns,
-              last == last_accepted_speed_ns.end() ? std::optional<TimeNs>(m.header.stamp_ns)
-                                                   : std::optional<TimeNs>(last->second))) {
+              last == last_accepted_speed_ns.end() ? diag.initialized_at_ns : last->second)) {
       Reject(id, RejectReason::kMahalanobisGate);
       return;
     }
@@ -292,8 +293,7 @@ struct EkfSingleTrackEstimator::Impl {
     const Mat2 R = cov.topLeftCorner<2, 2>();
     const auto last = last_accepted_gnss_ns.find(id);
     if (!Gate(Mahalanobis<2>(y, H, R), options.gnss_gate_chi2, fix.header.stamp_ns,
-              last == last_accepted_gnss_ns.end() ? std::optional<TimeNs>(fix.header.stamp_ns)
-                                                  : std::optional<TimeNs>(last->second))) {
+              last == last_accepted_gnss_ns.end() ? diag.initialized_at_ns : last->second)) {
       Reject(id, RejectReason::kMahalanobisGate);
       return;
     }
@@ -322,18 +322,28 @@ struct EkfSingleTrackEstimator::Impl {
     if (id != course_antenna) return;
     if (!first_fix) {
       first_fix = {fix.header.stamp_ns, fix.p_enu};
+      first_fix_covariance = fix.covariance;
       return;
     }
     const Vec3 d = fix.p_enu - first_fix->second;
     const double dt = ToSeconds(fix.header.stamp_ns - first_fix->first);
-    if (d.head<2>().norm() < options.course_min_distance_m || dt <= 0.0) return;
+    // The course is the chord between two noisy fixes: its yaw sigma is about
+    // sqrt(2) sigma_h / distance; wait until that is below course_max_yaw_sigma_rad.
+    const Mat3 cov_first = AdjustedCovariance(first_fix_covariance, info);
+    const Mat3 cov_now = AdjustedCovariance(fix.covariance, info);
+    const double var_h = std::max(cov_first.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff(),
+                                  cov_now.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff());
+    const double distance = d.head<2>().norm();
+    if (distance < options.course_min_distance_m || dt <= 0.0) return;
+    const double course_var = 2.0 * var_h / (distance * distance);
+    if (course_var > options.course_max_yaw_sigma_rad * options.course_max_yaw_sigma_rad) return;
     double yaw = std::atan2(d.y(), d.x());
     double speed = d.head<2>().norm() / dt;
     if (encoder_speed) {
       speed = *encoder_speed;
       if (speed < 0.0) yaw = so3::WrapAngle(yaw + std::numbers::pi);
     }
-    const Mat3 cov = AdjustedCovariance(fix.covariance, info);
+    const Mat3& cov = cov_now;
     const Vec2 Rl = (Rz(yaw) * info.p_body_sensor).head<2>();
     x = VecN::Zero();
     x[kX] = fix.p_enu.x() - Rl.x();
@@ -342,7 +352,7 @@ struct EkfSingleTrackEstimator::Impl {
     x[kVx] = speed;
     P = MatN::Zero();
     P.topLeftCorner<2, 2>() = cov.topLeftCorner<2, 2>();
-    P(kPsi, kPsi) = options.init_yaw_sigma_rad * options.init_yaw_sigma_rad;
+    P(kPsi, kPsi) = options.init_yaw_sigma_rad * options.init_yaw_sigma_rad + course_var;
     // The lever arm moves the yaw uncertainty into the position.
     const Vec2 dpos_dpsi(-Rl.y(), Rl.x());
     P.block<2, 1>(0, kPsi) = -dpos_dpsi * P(kPsi, kPsi);

@@ -26,8 +26,10 @@
 //   filter. Steering angles are inputs (held). Gates: GNSS covariance threshold, chi-square
 //   gates on GNSS and speed innovations (reopened after gate_reset_s of rejections).
 // Initialisation: the ENU origin is the first accepted fix; once the first antenna has moved
-//   course_min_distance_m, yaw = course of that displacement (flipped when the encoder speed is
-//   negative), vx = encoder speed (or displacement / time without encoder).
+//   course_min_distance_m and far enough for the chord's yaw sigma (sqrt(2) sigma_h / distance)
+//   to be below course_max_yaw_sigma_rad, yaw = course of that displacement (flipped when the
+//   encoder speed is negative; its variance the chord's plus init_yaw_sigma_rad^2), vx = encoder
+//   speed (or displacement / time without encoder).
 // Output: IMU pose from the planar state (roll = pitch = 0), ENU velocity of the IMU, biases in
 //   the IMU frame, and the covariance mapped into the 15x15 ordering of core/state.hpp; the
 //   components the filter does not estimate (roll, pitch, vertical velocity, the other bias
