@@ -76,6 +76,70 @@ bool EkfOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// Field name -> member, for the YAML parser.
+struct EkfField {
+  const char* name;
+  double EkfOptions::*member;
+};
+
+constexpr EkfField kEkfFields[] = {
+    {"blend_low_speed_mps", &EkfOptions::blend_low_speed_mps},
+    {"blend_high_speed_mps", &EkfOptions::blend_high_speed_mps},
+    {"kinematic_time_constant_s", &EkfOptions::kinematic_time_constant_s},
+    {"accel_noise_density", &EkfOptions::accel_noise_density},
+    {"lateral_model_density", &EkfOptions::lateral_model_density},
+    {"yaw_accel_density", &EkfOptions::yaw_accel_density},
+    {"position_density", &EkfOptions::position_density},
+    {"gyro_bias_walk", &EkfOptions::gyro_bias_walk},
+    {"accel_bias_walk", &EkfOptions::accel_bias_walk},
+    {"altitude_density", &EkfOptions::altitude_density},
+    {"gyro_sigma_radps", &EkfOptions::gyro_sigma_radps},
+    {"speed_sigma_mps", &EkfOptions::speed_sigma_mps},
+    {"course_min_distance_m", &EkfOptions::course_min_distance_m},
+    {"course_max_yaw_sigma_rad", &EkfOptions::course_max_yaw_sigma_rad},
+    {"init_yaw_sigma_rad", &EkfOptions::init_yaw_sigma_rad},
+    {"init_speed_sigma_mps", &EkfOptions::init_speed_sigma_mps},
+    {"init_gyro_bias_sigma_radps", &EkfOptions::init_gyro_bias_sigma_radps},
+    {"init_accel_bias_sigma_mps2", &EkfOptions::init_accel_bias_sigma_mps2},
+    {"roll_pitch_sigma_rad", &EkfOptions::roll_pitch_sigma_rad},
+    {"vertical_velocity_sigma_mps", &EkfOptions::vertical_velocity_sigma_mps},
+    {"gnss_max_sigma_m", &EkfOptions::gnss_max_sigma_m},
+    {"gnss_gate_chi2", &EkfOptions::gnss_gate_chi2},
+    {"speed_gate_chi2", &EkfOptions::speed_gate_chi2},
+    {"gate_reset_s", &EkfOptions::gate_reset_s},
+    {"max_delay_s", &EkfOptions::max_delay_s},
+    {"history_s", &EkfOptions::history_s},
+};
+
+}  // namespace
+
+EkfOptions ParseEkfOptions(const YamlNode& root) {
+  EkfOptions options;
+  if (root.IsNull()) return options;
+  root.ExpectMap();
+  for (const std::string& key : root.Keys()) {
+    const EkfField* field = nullptr;
+    for (const EkfField& f : kEkfFields) {
+      if (key == f.name) field = &f;
+    }
+    if (field == nullptr) root[key].Fail("unknown key");
+    options.*(field->member) = root[key].As<double>();
+  }
+  std::string why;
+  if (!options.IsValid(&why)) {
+    const auto node = root.Find(why);
+    if (node) node->Fail("invalid value");
+    root.Fail("invalid combination of values ('" + why + "')");
+  }
+  return options;
+}
+
+EkfOptions LoadEkfOptions(const std::filesystem::path& path) {
+  return ParseEkfOptions(YamlNode::LoadFile(path));
+}
+
 SingleTrackParams ParseSingleTrackParams(const YamlNode& root) {
   root.ExpectMap();
   SingleTrackParams p;

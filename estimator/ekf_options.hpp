@@ -70,6 +70,12 @@ struct EkfOptions {
   bool IsValid(std::string* why = nullptr) const;
 };
 
+// The filter options (every field of EkfOptions but `vehicle`, same names, all optional; unknown
+// keys and invalid values are InputErrors naming file:line and field). The vehicle comes from the
+// vehicle file (LoadSingleTrackParams).
+EkfOptions LoadEkfOptions(const std::filesystem::path& path);
+EkfOptions ParseEkfOptions(const YamlNode& root);
+
 // Reads the vehicle parameters of a vehicle file (scenarios/vehicles/*.yaml); missing required
 // keys or invalid values are InputErrors naming file:line and field.
 SingleTrackParams LoadSingleTrackParams(const std::filesystem::path& path);

@@ -21,7 +21,7 @@ std::unique_ptr<Estimator> MakeEstimator(const std::string& name,
       throw InputError("estimator 'ekf' needs the vehicle parameters file (setup " +
                        setup.source + ")");
     }
-    EkfOptions options;
+    EkfOptions options = files.options.empty() ? EkfOptions{} : LoadEkfOptions(files.options);
     options.vehicle = LoadSingleTrackParams(files.vehicle);
     return std::make_unique<EkfSingleTrackEstimator>(setup, options);
   }

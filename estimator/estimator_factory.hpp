@@ -15,7 +15,7 @@ namespace statebench::est {
 // Files an estimator may read besides the sensor setup.
 struct EstimatorFiles {
   // factor_graph: options YAML (scenarios/estimators/factor_graph.yaml); empty: defaults.
-  // ekf: not used (yet); the EKF runs on its defaults.
+  // ekf: options YAML (scenarios/estimators/ekf.yaml); empty: defaults.
   std::filesystem::path options;
   // ekf: the vehicle parameters file (scenarios/vehicles/*.yaml), required. factor_graph: unused.
   std::filesystem::path vehicle;

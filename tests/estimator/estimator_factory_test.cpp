@@ -37,6 +37,7 @@ TEST(EstimatorFactory, BuildsKnownEstimators) {
   files.vehicle = RepoDir() / "scenarios/vehicles/quadricycle.yaml";
   EXPECT_EQ(MakeEstimator("ekf", setup, files)->name(), "ekf");
   files.vehicle = RepoDir() / "scenarios/vehicles/shuttle.yaml";
+  files.options = RepoDir() / "scenarios/estimators/ekf.yaml";
   EXPECT_EQ(MakeEstimator("ekf", setup, files)->name(), "ekf");
   EXPECT_EQ(KnownEstimators(), (std::vector<std::string>{"factor_graph", "ekf"}));
 }
@@ -80,6 +81,24 @@ TEST(EkfOptions, ParsesVehicleFileIgnoringOtherKeys) {
     ParseSingleTrackParams(YamlNode::LoadString("mass_kg: 1\n", "v.yaml"));
   });
   EXPECT_NE(missing.find("yaw_inertia_kgm2"), std::string::npos) << missing;
+}
+
+TEST(EkfOptions, DefaultFileListsTheDefaults) {
+  const EkfOptions parsed = LoadEkfOptions(RepoDir() / "scenarios/estimators/ekf.yaml");
+  const EkfOptions defaults;
+  EXPECT_EQ(parsed.position_density, defaults.position_density);
+  EXPECT_EQ(parsed.gnss_gate_chi2, defaults.gnss_gate_chi2);
+  EXPECT_EQ(parsed.course_max_yaw_sigma_rad, defaults.course_max_yaw_sigma_rad);
+  EXPECT_EQ(parsed.history_s, defaults.history_s);
+  const std::string typo = MessageOf([] {
+    ParseEkfOptions(YamlNode::LoadString("gyro_sigma_radps: 0.01\nposition_densty: 1\n",
+                                         "ekf.yaml"));
+  });
+  EXPECT_NE(typo.find("ekf.yaml:2"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("position_densty"), std::string::npos) << typo;
+  const std::string invalid =
+      MessageOf([] { ParseEkfOptions(YamlNode::LoadString("history_s: -1\n", "ekf.yaml")); });
+  EXPECT_NE(invalid.find("history_s"), std::string::npos) << invalid;
 }
 
 }  // namespace
