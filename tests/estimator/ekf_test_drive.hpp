@@ -32,6 +32,9 @@ struct PlanarTruth {
 struct DriveOptions {
   double duration_s = 60.0;
   double speed_mps = 8.0;
+  // Optional longitudinal profile: (vx, dvx/dt) of time; replaces speed_mps. Below 1 m/s the
+  // truth has no lateral dynamics (use zero steering there: vy = r = 0).
+  std::function<Vec2(double)> speed_profile;
   std::function<double(double)> steering = [](double) { return 0.1; };  // rad, of time
   double initial_yaw_rad = 0.0;
   bool start_steady = true;  // start in the steady state of steering(0) (a circle)
@@ -79,7 +82,10 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
   Drive d;
   auto rng = MakeRng(o.seed, "ekf_test_drive");
   NormalSampler normal;
-  const double vx = o.speed_mps;
+  const auto profile = [&](double t) {
+    return o.speed_profile ? o.speed_profile(t) : Vec2(o.speed_mps, 0.0);
+  };
+  double vx = profile(0.0).x();
   PlanarTruth s;
   s.psi = o.initial_yaw_rad;
   s.vx = vx;
@@ -97,10 +103,11 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
   const int steps = static_cast<int>(o.duration_s * 1000.0);
   double delta = o.steering(0.0);
   using State = Eigen::Matrix<double, 5, 1>;  // x, y, psi, vy, r
-  const auto f = [&](const State& q) {
+  const auto f = [&](const State& q, double t) {
+    const double v = profile(t).x();
     State dq;
-    dq << vx * std::cos(q[2]) - q[3] * std::sin(q[2]), vx * std::sin(q[2]) + q[3] * std::cos(q[2]),
-        q[4], LateralDerivative(p, vx, q[3], q[4], delta);
+    dq << v * std::cos(q[2]) - q[3] * std::sin(q[2]), v * std::sin(q[2]) + q[3] * std::cos(q[2]),
+        q[4], v < 1.0 ? Vec2::Zero() : LateralDerivative(p, v, q[3], q[4], delta);
     return dq;
   };
   State q;
@@ -108,16 +115,17 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
   for (int k = 0; k <= steps; ++k) {
     const TimeNs t_ns = k * step_ns;
     const double t = ToSeconds(t_ns);
+    vx = profile(t).x();
     if (k % 10 == 0) {
       delta = o.steering(t);  // held until the next encoder sample
       PlanarTruth truth{t_ns, q[0], q[1], so3::WrapAngle(q[2]), vx, q[3], q[4]};
       d.truth.push_back(truth);
-      const State dq = f(q);
+      const State dq = f(q, t);
       ImuSample imu;
       imu.header = {"imu", t_ns, t_ns};
       // Specific force at the CG (IMU above it, no roll/pitch): a - g, body frame.
       imu.gyro = Vec3(0, 0, q[4] + o.gyro_sigma_radps * normal(rng));
-      imu.accel = Vec3(-q[4] * q[3] + o.accel_sigma_mps2 * normal(rng),
+      imu.accel = Vec3(profile(t).y() - q[4] * q[3] + o.accel_sigma_mps2 * normal(rng),
                        dq[3] + q[4] * vx + o.accel_sigma_mps2 * normal(rng), kGravity);
       if (k > 0) d.stream.push_back(imu);
       SteeringAngle steer;
@@ -150,8 +158,8 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
     }
     // RK4 step.
     const double h = 1e-3;
-    const State k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2),
-                k4 = f(q + h * k3);
+    const State k1 = f(q, t), k2 = f(q + 0.5 * h * k1, t + 0.5 * h),
+                k3 = f(q + 0.5 * h * k2, t + 0.5 * h), k4 = f(q + h * k3, t + h);
     q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
   }
   std::stable_sort(d.stream.begin(), d.stream.end(), [](const Measurement& a, const Measurement& b) {
