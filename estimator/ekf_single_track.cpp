@@ -146,7 +146,8 @@ struct EkfSingleTrackEstimator::Impl {
     d[kVx] = ax - s[kBa] + r * vy + r * r * p_body_imu.x();
     const double lf = v.cg_to_front_axle_m, lr = v.cg_to_rear_axle_m, L = v.Wheelbase();
     const double delta_f = delta, delta_r = -v.rear_steering_ratio * delta;
-    const double w = std::clamp((std::abs(vx) - options.blend_low_speed_mps) /
+    // Reversing: kinematic only (the dynamic model's lateral modes are unstable for vx < 0).
+    const double w = std::clamp((vx - options.blend_low_speed_mps) /
                                     (options.blend_high_speed_mps - options.blend_low_speed_mps),
                                 0.0, 1.0);
     double vy_dot = 0.0, r_dot = 0.0;

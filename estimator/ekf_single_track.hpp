@@ -19,7 +19,8 @@
 //     lr Cr alpha_r)/Iz;  below blend_low_speed_mps replaced by a relaxation towards the
 //     kinematic bicycle (vy_kin = vx (lf tan delta_r + lr tan delta_f)/L, r_kin = vx (tan
 //     delta_f - tan delta_r)/L, time constant kinematic_time_constant_s), linearly blended
-//     up to blend_high_speed_mps, so the model stays well posed at standstill.
+//     up to blend_high_speed_mps, so the model stays well posed at standstill; kinematic when
+//     reversing.
 // Updates: IMU gyro z (body) as r + b_g, every sample; speed encoder as vx - r l_y at the
 //   sensor; GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
 //   to the fix stamp by the current velocity when it arrives late; GNSS height in the altitude

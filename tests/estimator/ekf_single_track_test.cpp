@@ -139,6 +139,26 @@ TEST(EkfSingleTrack, StopStandAndGo) {
   EXPECT_LT(e.max_vy_mps, 0.01);
 }
 
+// Reversing straight at 2 m/s: the course from GNSS points backwards, the encoder's
+// negative speed flips the initial yaw.
+TEST(EkfSingleTrack, Reversing) {
+  DriveOptions o;
+  o.duration_s = 40.0;
+  o.initial_yaw_rad = 1.0;
+  o.start_steady = false;
+  o.steering = [](double) { return 0.0; };
+  o.speed_profile = [](double) { return Vec2(-2.0, 0.0); };
+  EkfOptions options;
+  const Drive d = MakeDrive(options.vehicle, o);
+  EkfSingleTrackEstimator ekf(MakeDriveSetup(), options);
+  const Errors e = RunDrive(ekf, d, 10.0);
+  Print("reversing", e);
+  EXPECT_GT(e.epochs, 290);
+  EXPECT_LT(e.max_position_m, 0.02);
+  EXPECT_LT(e.max_yaw_rad, 2e-3);
+  EXPECT_LT(e.max_vx_mps, 0.01);
+}
+
 TEST(EkfSingleTrack, OutputContract) {
   DriveOptions o;
   o.duration_s = 10.0;
