@@ -63,6 +63,8 @@ struct EkfOptions {
   double gnss_max_sigma_m = 5.0;
   double gnss_gate_chi2 = 13.82;   // 2 dof (horizontal)
   double speed_gate_chi2 = 10.83;  // 1 dof
+  double heading_max_sigma_rad = 0.2;  // dual-antenna heading threshold
+  double heading_gate_chi2 = 10.83;    // 1 dof
   double gate_reset_s = 10.0;
   double max_delay_s = 1.0;     // older measurements (stamp behind the filter) are kTooOld
   double history_s = 2.0;       // StateAt() serves stamps this far behind the newest IMU sample

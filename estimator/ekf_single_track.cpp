@@ -30,13 +30,14 @@ constexpr double kMaxAbsSpeedMps = 100.0;
 Mat3 Rz(double psi) { return Eigen::AngleAxisd(psi, Vec3::UnitZ()).toRotationMatrix(); }
 
 // A GNSS antenna, a speed encoder, or a steering encoder, resolved from the setup.
-enum class Role { kImu, kGnss, kSpeed, kSteering, kUnsupported };
+enum class Role { kImu, kGnss, kSpeed, kSteering, kHeading, kUnsupported };
 
 struct SensorInfo {
   Role role = Role::kUnsupported;
   Vec3 p_body_sensor = Vec3::Zero();
   double covariance_scale = 1.0;
   double min_sigma_m = 0.0;
+  double yaw_offset_rad = 0.0;  // heading: yaw of the antenna baseline in the body frame
 };
 
 struct Snapshot {
@@ -85,7 +86,8 @@ struct EkfSingleTrackEstimator::Impl {
   VecN x = VecN::Zero();
   MatN P = MatN::Identity();
   double z = 0.0, Pz = 1.0;
-  std::map<std::string, TimeNs> last_accepted_gnss_ns, last_accepted_speed_ns;
+  std::map<std::string, TimeNs> last_accepted_gnss_ns, last_accepted_speed_ns,
+      last_accepted_heading_ns;
   std::vector<Pending> pending;  // stamp-sorted
   std::deque<Snapshot> history;
 
@@ -123,7 +125,12 @@ struct EkfSingleTrackEstimator::Impl {
       sensors[sensor.id] = info;
     }
     for (const DualAntennaPair& pair : setup.dual_antennas) {
-      if (!pair.heading_id.empty()) sensors[pair.heading_id] = SensorInfo{};
+      if (pair.heading_id.empty()) continue;
+      SensorInfo info;
+      info.role = Role::kHeading;
+      const Vec3 baseline_body = setup.T_body_imu.rotation() * (pair.p_imu_aux - pair.p_imu_main);
+      info.yaw_offset_rad = std::atan2(baseline_body.y(), baseline_body.x());
+      sensors[pair.heading_id] = info;
     }
     if (course_antenna.empty()) {
       throw InputError(setup.source + ": the ekf estimator needs a GNSS antenna in the setup");
@@ -264,6 +271,26 @@ struct EkfSingleTrackEstimator::Impl {
     }
     Update<1>(y, H, R);
     last_accepted_speed_ns[id] = m.header.stamp_ns;
+    Accept(id);
+  }
+
+  // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
+  // vehicle is planar, the baseline's pitch is not used).
+  void UpdateHeading(const std::string& id, const SensorInfo& info,
+                     const DualAntennaHeading& m) {
+    Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
+    H(0, kPsi) = 1.0;
+    Eigen::Matrix<double, 1, 1> y(so3::WrapAngle(m.yaw_rad - (x[kPsi] + info.yaw_offset_rad) -
+                                                 x[kR] * ToSeconds(m.header.stamp_ns - t_ns)));
+    Eigen::Matrix<double, 1, 1> R(m.yaw_sigma_rad * m.yaw_sigma_rad);
+    const auto last = last_accepted_heading_ns.find(id);
+    if (!Gate(Mahalanobis<1>(y, H, R), options.heading_gate_chi2, m.header.stamp_ns,
+              last == last_accepted_heading_ns.end() ? diag.initialized_at_ns : last->second)) {
+      Reject(id, RejectReason::kMahalanobisGate);
+      return;
+    }
+    Update<1>(y, H, R);
+    last_accepted_heading_ns[id] = m.header.stamp_ns;
     Accept(id);
   }
 
@@ -415,6 +442,16 @@ struct EkfSingleTrackEstimator::Impl {
         return;
       }
       UpdateSpeed(id, info, *speed);
+    } else if (const auto* heading = std::get_if<DualAntennaHeading>(&m)) {
+      if (!initialized) {
+        Reject(id, RejectReason::kNotInitialized);
+        return;
+      }
+      if (heading->yaw_sigma_rad > options.heading_max_sigma_rad) {
+        Reject(id, RejectReason::kCovarianceThreshold);
+        return;
+      }
+      UpdateHeading(id, info, *heading);
     } else if (const auto* angle = std::get_if<SteeringAngle>(&m)) {
       steering = angle->angle_rad;
       Accept(id);
@@ -455,6 +492,9 @@ struct EkfSingleTrackEstimator::Impl {
 
   std::optional<RejectReason> CheckOther(const Measurement& m) const {
     if (const auto* fix = std::get_if<GnssFix>(&m)) return CheckGnssFix(*fix);
+    if (const auto* heading = std::get_if<DualAntennaHeading>(&m)) {
+      return CheckDualAntennaHeading(*heading);
+    }
     if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
       if (!std::isfinite(speed->speed_mps)) return RejectReason::kNonFinite;
       if (std::abs(speed->speed_mps) > kMaxAbsSpeedMps) return RejectReason::kAbsurdValue;
@@ -476,6 +516,8 @@ struct EkfSingleTrackEstimator::Impl {
         return std::holds_alternative<VehicleSpeed>(m);
       case Role::kSteering:
         return std::holds_alternative<SteeringAngle>(m);
+      case Role::kHeading:
+        return std::holds_alternative<DualAntennaHeading>(m);
       case Role::kUnsupported:
         return true;
     }

@@ -24,7 +24,8 @@
 // Updates: IMU gyro z (body) as r + b_g, every sample; speed encoder as vx - r l_y at the
 //   sensor; GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
 //   to the fix stamp by the current velocity when it arrives late; GNSS height in the altitude
-//   filter. Steering angles are inputs (held). Gates: GNSS covariance threshold, chi-square
+//   filter; dual-antenna heading (DualAntennaHeading of a dual_antennas entry) as psi plus the
+//   baseline's yaw in the body frame. Steering angles are inputs (held). Gates: GNSS covariance threshold, chi-square
 //   gates on GNSS and speed innovations (reopened after gate_reset_s of rejections).
 // Initialisation: the ENU origin is the first accepted fix; once the first antenna has moved
 //   course_min_distance_m and far enough for the chord's yaw sigma (sqrt(2) sigma_h / distance)
@@ -35,8 +36,8 @@
 //   the IMU frame, and the covariance mapped into the 15x15 ordering of core/state.hpp; the
 //   components the filter does not estimate (roll, pitch, vertical velocity, the other bias
 //   axes) get the fixed sigmas of the options. StateAt serves the last history_s of IMU time.
-// Not used (rejected as kUnsupportedSensor): wheel speeds, lidar, body velocity, dual-antenna
-//   heading messages (two antennas are used as two position sensors).
+// Not used (rejected as kUnsupportedSensor): wheel speeds, lidar, body velocity. Two antennas
+//   without a heading message are used as two position sensors.
 #pragma once
 
 #include <memory>

@@ -43,6 +43,7 @@ struct DriveOptions {
   double speed_sigma_mps = 0.0;
   double gyro_sigma_radps = 0.0;
   double accel_sigma_mps2 = 0.0;
+  double heading_sigma_rad = -1.0;  // > 0: dual-antenna headings at 10 Hz with this sigma
   std::uint64_t seed = 1;
 };
 
@@ -51,7 +52,9 @@ inline const Vec3 kDriveAntenna(0.8, 0.0, 1.4);
 inline const Vec3 kDriveSpeedEncoder(-0.76, 0.0, 0.27);
 inline const GeodeticPoint kDriveOrigin{45.478, 9.227, 120.0};  // Milan
 
-inline EstimatorSensorSetup MakeDriveSetup() {
+// with_heading: a second antenna 1.6 m behind the first and a dual-antenna heading message
+// (baseline rear -> front, along body +x).
+inline EstimatorSensorSetup MakeDriveSetup(bool with_heading = false) {
   const std::string yaml =
       "name: ekf_test\nsensors:\n"
       "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.5]}}\n"
@@ -59,7 +62,11 @@ inline EstimatorSensorSetup MakeDriveSetup() {
       "  - {type: speed_encoder, id: speed, T_body_sensor: {translation: [-0.76, 0, 0.27]}}\n"
       "  - {type: steering_encoder, id: steering, T_body_sensor: {translation: [0.93, 0, 0]}}\n"
       "  - {type: wheel_encoders, id: wheels, T_body_sensor: {translation: [0, 0, 0]}}\n";
-  return ParseEstimatorSensorSetup(YamlNode::LoadString(yaml, "ekf_test_setup.yaml"));
+  const std::string heading =
+      "  - {type: gnss, id: gnss_rear, T_body_sensor: {translation: [-0.8, 0, 1.4]}}\n"
+      "dual_antenna_headings:\n  - {id: heading, main: gnss_rear, aux: gnss}\n";
+  return ParseEstimatorSensorSetup(
+      YamlNode::LoadString(yaml + (with_heading ? heading : ""), "ekf_test_setup.yaml"));
 }
 
 // d/dt (vy, r) of the linear single-track model at constant vx.
@@ -154,6 +161,13 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
         fix.covariance_enu.diagonal() << sh * sh, sh * sh, 4 * sh * sh;
         fix.status = GnssFixStatus::kRtkFixed;
         d.stream.push_back(fix);
+        if (o.heading_sigma_rad > 0.0) {
+          DualAntennaHeading h;
+          h.header = {"heading", t_ns, t_ns + 50'000'000};
+          h.yaw_rad = so3::WrapAngle(q[2] + o.heading_sigma_rad * normal(rng));
+          h.yaw_sigma_rad = o.heading_sigma_rad;
+          d.stream.push_back(h);
+        }
       }
     }
     // RK4 step.
