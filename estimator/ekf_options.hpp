@@ -21,7 +21,7 @@ struct SingleTrackParams {
   double cg_to_rear_axle_m = 0.76;               // cg_to_rear_axle_m (lr)
   double cornering_stiffness_front_npr = 22000;  // cornering_stiffness_front_npr (N/rad, axle)
   double cornering_stiffness_rear_npr = 35000;   // cornering_stiffness_rear_npr
-  double rear_steering_ratio = 0.0;  // rear road-wheel angle = -ratio * front angle
+  double rear_steering_ratio = 0.0;              // rear road-wheel angle = -ratio * front angle
 
   double Wheelbase() const { return cg_to_front_axle_m + cg_to_rear_axle_m; }
   bool IsValid(std::string* why = nullptr) const;
@@ -41,12 +41,12 @@ struct EkfOptions {
   // Position random walk standing for what the planar model misses (non-linear tyres, grades,
   // encoder scale error). Measured on a simulated setup-1 drive (240 s) with 1.7 m white GNSS
   // noise added: 0.01 gave a pose NEES of 31 (3 dof, overconfident), 0.1 gives 2.3.
-  double position_density = 0.1;       // m/sqrt(s)
-  double gyro_bias_walk = 1e-4;        // rad/s^2/sqrt(Hz)
-  double accel_bias_walk = 1e-3;       // m/s^3/sqrt(Hz)
-  double altitude_density = 0.1;       // m/sqrt(s), random walk of the filtered altitude
-  double gyro_sigma_radps = 0.005;     // yaw-rate measurement noise per IMU sample
-  double speed_sigma_mps = 0.05;       // speed encoder noise
+  double position_density = 0.1;    // m/sqrt(s)
+  double gyro_bias_walk = 1e-4;     // rad/s^2/sqrt(Hz)
+  double accel_bias_walk = 1e-3;    // m/s^3/sqrt(Hz)
+  double altitude_density = 0.1;    // m/sqrt(s), random walk of the filtered altitude
+  double gyro_sigma_radps = 0.005;  // yaw-rate measurement noise per IMU sample
+  double speed_sigma_mps = 0.05;    // speed encoder noise
   // Initialisation (from GNSS course and encoder speed).
   double course_min_distance_m = 5.0;
   double course_max_yaw_sigma_rad = 0.15;  // wait for this GNSS course precision (chord)
@@ -61,13 +61,13 @@ struct EkfOptions {
   // chi-square gates (p = 0.999) on the innovations; a gate opens again after gate_reset_s of
   // rejections.
   double gnss_max_sigma_m = 5.0;
-  double gnss_gate_chi2 = 13.82;   // 2 dof (horizontal)
-  double speed_gate_chi2 = 10.83;  // 1 dof
+  double gnss_gate_chi2 = 13.82;       // 2 dof (horizontal)
+  double speed_gate_chi2 = 10.83;      // 1 dof
   double heading_max_sigma_rad = 0.2;  // dual-antenna heading threshold
   double heading_gate_chi2 = 10.83;    // 1 dof
   double gate_reset_s = 10.0;
-  double max_delay_s = 1.0;     // older measurements (stamp behind the filter) are kTooOld
-  double history_s = 2.0;       // StateAt() serves stamps this far behind the newest IMU sample
+  double max_delay_s = 1.0;  // older measurements (stamp behind the filter) are kTooOld
+  double history_s = 2.0;    // StateAt() serves stamps this far behind the newest IMU sample
 
   bool IsValid(std::string* why = nullptr) const;
 };

@@ -276,8 +276,7 @@ struct EkfSingleTrackEstimator::Impl {
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
   // vehicle is planar, the baseline's pitch is not used).
-  void UpdateHeading(const std::string& id, const SensorInfo& info,
-                     const DualAntennaHeading& m) {
+  void UpdateHeading(const std::string& id, const SensorInfo& info, const DualAntennaHeading& m) {
     Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
     H(0, kPsi) = 1.0;
     Eigen::Matrix<double, 1, 1> y(so3::WrapAngle(m.yaw_rad - (x[kPsi] + info.yaw_offset_rad) -
@@ -415,8 +414,8 @@ struct EkfSingleTrackEstimator::Impl {
   // Applies a measurement whose stamp is at or before the filter time.
   void Apply(const std::string& id, const SensorInfo& info, const Measurement& m) {
     if (const auto* fix = std::get_if<GnssFix>(&m)) {
-      if (!frame) frame.emplace(GeodeticPoint{fix->latitude_deg, fix->longitude_deg,
-                                              fix->altitude_m});
+      if (!frame)
+        frame.emplace(GeodeticPoint{fix->latitude_deg, fix->longitude_deg, fix->altitude_m});
       std::string why;
       const auto enu = GnssFixToEnu(*fix, *frame, &why);
       if (!enu) {
@@ -566,9 +565,8 @@ struct EkfSingleTrackEstimator::Impl {
       return;
     }
     Pending p{header.stamp_ns, id, m};
-    const auto pos = std::upper_bound(
-        pending.begin(), pending.end(), p.stamp_ns,
-        [](TimeNs t, const Pending& q) { return t < q.stamp_ns; });
+    const auto pos = std::upper_bound(pending.begin(), pending.end(), p.stamp_ns,
+                                      [](TimeNs t, const Pending& q) { return t < q.stamp_ns; });
     pending.insert(pos, std::move(p));
   }
 

@@ -25,8 +25,9 @@
 //   sensor; GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
 //   to the fix stamp by the current velocity when it arrives late; GNSS height in the altitude
 //   filter; dual-antenna heading (DualAntennaHeading of a dual_antennas entry) as psi plus the
-//   baseline's yaw in the body frame. Steering angles are inputs (held). Gates: GNSS covariance threshold, chi-square
-//   gates on GNSS and speed innovations (reopened after gate_reset_s of rejections).
+//   baseline's yaw in the body frame. Steering angles are inputs (held). Gates: GNSS covariance
+//   threshold, chi-square gates on GNSS and speed innovations (reopened after gate_reset_s of
+//   rejections).
 // Initialisation: the ENU origin is the first accepted fix; once the first antenna has moved
 //   course_min_distance_m and far enough for the chord's yaw sigma (sqrt(2) sigma_h / distance)
 //   to be below course_max_yaw_sigma_rad, yaw = course of that displacement (flipped when the

@@ -8,8 +8,7 @@ namespace statebench::est {
 
 std::vector<std::string> KnownEstimators() { return {"factor_graph", "ekf"}; }
 
-std::unique_ptr<Estimator> MakeEstimator(const std::string& name,
-                                         const EstimatorSensorSetup& setup,
+std::unique_ptr<Estimator> MakeEstimator(const std::string& name, const EstimatorSensorSetup& setup,
                                          const EstimatorFiles& files) {
   if (name == "factor_graph") {
     const FactorGraphOptions options =
@@ -18,8 +17,8 @@ std::unique_ptr<Estimator> MakeEstimator(const std::string& name,
   }
   if (name == "ekf") {
     if (files.vehicle.empty()) {
-      throw InputError("estimator 'ekf' needs the vehicle parameters file (setup " +
-                       setup.source + ")");
+      throw InputError("estimator 'ekf' needs the vehicle parameters file (setup " + setup.source +
+                       ")");
     }
     EkfOptions options = files.options.empty() ? EkfOptions{} : LoadEkfOptions(files.options);
     options.vehicle = LoadSingleTrackParams(files.vehicle);

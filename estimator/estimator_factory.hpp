@@ -27,8 +27,7 @@ std::vector<std::string> KnownEstimators();
 // Throws InputError naming the estimator and listing the known ones if `name` is unknown, and
 // the loaders' InputErrors (file:line: field) on bad files; "ekf" without a vehicle file is an
 // InputError too.
-std::unique_ptr<Estimator> MakeEstimator(const std::string& name,
-                                         const EstimatorSensorSetup& setup,
+std::unique_ptr<Estimator> MakeEstimator(const std::string& name, const EstimatorSensorSetup& setup,
                                          const EstimatorFiles& files);
 
 }  // namespace statebench::est

@@ -72,11 +72,12 @@ NeesResult RunNees(const EkfOptions& options, const char* label) {
       const int epoch = static_cast<int>(std::lround(t - kEvalFromS));
       pose_nees[epoch] += e_pose.dot(P_pose.ldlt().solve(e_pose)) / kRuns;
       vel_nees[epoch] += dv.head<2>().dot(P_vel.ldlt().solve(dv.head<2>())) / kRuns;
-      pos_nees += dp.head<2>().dot(
-                      est->covariance.block<2, 2>(kPositionIndex, kPositionIndex).ldlt().solve(
-                          dp.head<2>())) / (kRuns * kEpochs);
-      yaw_nees += dyaw * dyaw / est->covariance(kRotationIndex + 2, kRotationIndex + 2) /
+      pos_nees += dp.head<2>().dot(est->covariance.block<2, 2>(kPositionIndex, kPositionIndex)
+                                       .ldlt()
+                                       .solve(dp.head<2>())) /
                   (kRuns * kEpochs);
+      yaw_nees +=
+          dyaw * dyaw / est->covariance(kRotationIndex + 2, kRotationIndex + 2) / (kRuns * kEpochs);
       pos_sq += dp.head<2>().squaredNorm();
       yaw_sq += dyaw * dyaw;
       ++samples;
@@ -95,12 +96,12 @@ NeesResult RunNees(const EkfOptions& options, const char* label) {
     pose_mean += pose_nees[k] / kEpochs;
     vel_mean += vel_nees[k] / kEpochs;
   }
-  std::cout << "[ figures ] " << label << ": NEES pose (3 dof) mean " << pose_mean << ", epochs inside 95 % "
-            << pose_inside << "/" << kEpochs << "; velocity (2 dof) mean " << vel_mean
-            << ", inside " << vel_inside << "/" << kEpochs << "; horizontal position RMSE "
-            << std::sqrt(pos_sq / samples) << " m, yaw RMSE " << std::sqrt(yaw_sq / samples)
-            << " rad; position alone (2 dof) " << pos_nees << ", yaw alone (1 dof) " << yaw_nees
-            << "\n";
+  std::cout << "[ figures ] " << label << ": NEES pose (3 dof) mean " << pose_mean
+            << ", epochs inside 95 % " << pose_inside << "/" << kEpochs
+            << "; velocity (2 dof) mean " << vel_mean << ", inside " << vel_inside << "/" << kEpochs
+            << "; horizontal position RMSE " << std::sqrt(pos_sq / samples) << " m, yaw RMSE "
+            << std::sqrt(yaw_sq / samples) << " rad; position alone (2 dof) " << pos_nees
+            << ", yaw alone (1 dof) " << yaw_nees << "\n";
   return r;
 }
 

@@ -37,8 +37,8 @@ struct DriveOptions {
   std::function<Vec2(double)> speed_profile;
   std::function<double(double)> steering = [](double) { return 0.1; };  // rad, of time
   double initial_yaw_rad = 0.0;
-  bool start_steady = true;  // start in the steady state of steering(0) (a circle)
-  double gnss_sigma_m = 0.0;         // horizontal noise per axis (vertical 2x)
+  bool start_steady = true;   // start in the steady state of steering(0) (a circle)
+  double gnss_sigma_m = 0.0;  // horizontal noise per axis (vertical 2x)
   double reported_gnss_sigma_m = 0.02;
   double speed_sigma_mps = 0.0;
   double gyro_sigma_radps = 0.0;
@@ -80,7 +80,7 @@ inline Vec2 LateralDerivative(const SingleTrackParams& p, double vx, double vy, 
 }
 
 struct Drive {
-  std::vector<PlanarTruth> truth;  // at every IMU stamp (100 Hz)
+  std::vector<PlanarTruth> truth;   // at every IMU stamp (100 Hz)
   std::vector<Measurement> stream;  // arrival order
   LocalEnuFrame frame{kDriveOrigin};
 };
@@ -176,9 +176,10 @@ inline Drive MakeDrive(const SingleTrackParams& p, const DriveOptions& o) {
                 k3 = f(q + 0.5 * h * k2, t + 0.5 * h), k4 = f(q + h * k3, t + h);
     q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
   }
-  std::stable_sort(d.stream.begin(), d.stream.end(), [](const Measurement& a, const Measurement& b) {
-    return HeaderOf(a).arrival_ns < HeaderOf(b).arrival_ns;
-  });
+  std::stable_sort(d.stream.begin(), d.stream.end(),
+                   [](const Measurement& a, const Measurement& b) {
+                     return HeaderOf(a).arrival_ns < HeaderOf(b).arrival_ns;
+                   });
   return d;
 }
 

@@ -6,8 +6,8 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 
 #include "core/error.hpp"
 #include "ekf_test_drive.hpp"
@@ -51,8 +51,7 @@ TEST(EstimatorFactory, UnknownNameListsKnownOnes) {
 
 TEST(EstimatorFactory, EkfNeedsValidVehicleFile) {
   const EstimatorSensorSetup setup = testing::MakeDriveSetup();
-  EXPECT_NE(MessageOf([&] { MakeEstimator("ekf", setup, {}); }).find("vehicle"),
-            std::string::npos);
+  EXPECT_NE(MessageOf([&] { MakeEstimator("ekf", setup, {}); }).find("vehicle"), std::string::npos);
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / "ekf_factory_test_vehicle.yaml";
   {
@@ -77,9 +76,8 @@ TEST(EkfOptions, ParsesVehicleFileIgnoringOtherKeys) {
   EXPECT_DOUBLE_EQ(p.cornering_stiffness_front_npr, 22000.0);
   EXPECT_DOUBLE_EQ(p.cornering_stiffness_rear_npr, 35000.0);
   EXPECT_DOUBLE_EQ(p.rear_steering_ratio, 0.0);
-  const std::string missing = MessageOf([] {
-    ParseSingleTrackParams(YamlNode::LoadString("mass_kg: 1\n", "v.yaml"));
-  });
+  const std::string missing =
+      MessageOf([] { ParseSingleTrackParams(YamlNode::LoadString("mass_kg: 1\n", "v.yaml")); });
   EXPECT_NE(missing.find("yaw_inertia_kgm2"), std::string::npos) << missing;
 }
 
@@ -91,8 +89,8 @@ TEST(EkfOptions, DefaultFileListsTheDefaults) {
   EXPECT_EQ(parsed.course_max_yaw_sigma_rad, defaults.course_max_yaw_sigma_rad);
   EXPECT_EQ(parsed.history_s, defaults.history_s);
   const std::string typo = MessageOf([] {
-    ParseEkfOptions(YamlNode::LoadString("gyro_sigma_radps: 0.01\nposition_densty: 1\n",
-                                         "ekf.yaml"));
+    ParseEkfOptions(
+        YamlNode::LoadString("gyro_sigma_radps: 0.01\nposition_densty: 1\n", "ekf.yaml"));
   });
   EXPECT_NE(typo.find("ekf.yaml:2"), std::string::npos) << typo;
   EXPECT_NE(typo.find("position_densty"), std::string::npos) << typo;
