@@ -33,8 +33,8 @@ struct NormalEquations {
 
 // Eigen-decomposition of the spread of the map points within radius of q (ascending
 // eigenvalues); false when fewer than 5 points.
-bool LocalShape(const VoxelHashMap& map, const Vec3& q, double radius,
-                std::vector<Vec3>* scratch, Eigen::SelfAdjointEigenSolver<Mat3>* eig) {
+bool LocalShape(const VoxelHashMap& map, const Vec3& q, double radius, std::vector<Vec3>* scratch,
+                Eigen::SelfAdjointEigenSolver<Mat3>* eig) {
   map.NeighborsWithin(q, radius, scratch);
   if (scratch->size() < 5) return false;
   Vec3 mean = Vec3::Zero();
@@ -69,10 +69,21 @@ Mat3 ThinProjector(const VoxelHashMap& map, const Vec3& q, const IcpOptions& opt
   return Mat3::Zero();
 }
 
+// Thin projectors per source point, reused while its correspondence stays within a tenth of
+// the surface radius of the one they were computed at (the local shape is the same there);
+// each slot is written only by the task that owns its index.
+struct ProjectorCache {
+  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0) {}
+  std::vector<Mat3> P;
+  std::vector<Vec3> q;
+  std::vector<char> valid;
+};
+
 // Normal equations at T. use_projector selects W = w P instead of w I.
-NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& map,
-                           const SE3& T, double max_dist, double kernel, bool use_projector,
-                           const IcpOptions& options) {
+NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& map, const SE3& T,
+                           double max_dist, double kernel, bool use_projector,
+                           const IcpOptions& options, ProjectorCache* cache) {
+  const double reuse2 = 0.01 * options.surface_radius_m * options.surface_radius_m;
   const Mat3 R = T.RotationMatrix();
   const Mat3 Rt = R.transpose();
   const double k2 = kernel * kernel;
@@ -92,7 +103,12 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
           Mat3 W_s = Mat3::Identity();
           double dof = 3.0;
           if (use_projector) {
-            W_s = Rt * ThinProjector(map, q, options, &scratch) * R;
+            if (!cache->valid[i] || (cache->q[i] - q).squaredNorm() > reuse2) {
+              cache->P[i] = ThinProjector(map, q, options, &scratch);
+              cache->q[i] = q;
+              cache->valid[i] = 1;
+            }
+            W_s = Rt * cache->P[i] * R;
             dof = W_s.trace();
           }
           Eigen::Matrix<double, 3, 6> J;
@@ -117,8 +133,8 @@ void FillCovariance(const NormalEquations& eq, const IcpOptions& options, IcpRes
   const Eigen::SelfAdjointEigenSolver<Mat6> eig(H_scaled);
   const Vec6 lambda = eig.eigenvalues();
   const double dof = std::max(eq.weighted_dof - 6.0, 1.0);
-  const double s2 = std::max(eq.weighted_sq / dof,
-                             options.min_residual_sigma_m * options.min_residual_sigma_m);
+  const double s2 =
+      std::max(eq.weighted_sq / dof, options.min_residual_sigma_m * options.min_residual_sigma_m);
   Vec6 variance;
   int degenerate = 0;
   for (int k = 0; k < 6; ++k) {
@@ -151,9 +167,10 @@ IcpResult RegisterScanToMap(const std::vector<Vec3>& points_scan, const VoxelHas
     return result;
   }
   const bool projected = options.metric == IcpMetric::kSurfaceProjected;
+  ProjectorCache cache(points_scan.size());
   for (int it = 0; it < options.max_iterations; ++it) {
-    const NormalEquations eq = Accumulate(points_scan, map, result.T_map_scan,
-                                          max_correspondence_m, kernel_scale_m, projected, options);
+    const NormalEquations eq = Accumulate(points_scan, map, result.T_map_scan, max_correspondence_m,
+                                          kernel_scale_m, projected, options, &cache);
     result.iterations = it + 1;
     result.correspondences = eq.count;
     if (eq.count < options.min_correspondences) {
@@ -170,8 +187,8 @@ IcpResult RegisterScanToMap(const std::vector<Vec3>& points_scan, const VoxelHas
       break;
     }
   }
-  const NormalEquations info = Accumulate(points_scan, map, result.T_map_scan,
-                                          max_correspondence_m, kernel_scale_m, true, options);
+  const NormalEquations info = Accumulate(points_scan, map, result.T_map_scan, max_correspondence_m,
+                                          kernel_scale_m, true, options, &cache);
   result.correspondences = info.count;
   FillCovariance(info, options, &result);
   result.ok = true;

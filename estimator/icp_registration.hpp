@@ -11,8 +11,8 @@
 // Metrics: kPointToPoint uses W_i = w_i I (KISS-ICP). kSurfaceProjected uses W_i = w_i P_i, where
 // P_i projects on the directions in which the map is thin around q (the normal of a plane, the
 // two directions across a pole), estimated from the map points around q; ambiguous or isolated
-// neighbourhoods contribute nothing (see ThinProjector). It removes the pull of sparse lidar rings along the ground (the
-// forward-motion under-estimate of plain point-to-point ICP).
+// neighbourhoods contribute nothing (see ThinProjector). It removes the pull of sparse lidar rings
+// along the ground (the forward-motion under-estimate of plain point-to-point ICP).
 //
 // Covariance: whatever metric drove the iterations, the information is the geometric one,
 // H = sum_i w_i J_i^T P_i J_i (a point-to-point Hessian is sum w I in translation whatever the
@@ -61,7 +61,7 @@ struct IcpResult {
   double residual_sigma_m = 0.0;
   bool degenerate = false;
   int degenerate_directions = 0;
-  Vec6 scaled_eigenvalues = Vec6::Zero();  // of D^-1 H D^-1, ascending
+  Vec6 scaled_eigenvalues = Vec6::Zero();       // of D^-1 H D^-1, ascending
   Mat6 scaled_eigenvectors = Mat6::Identity();  // columns, in scaled (rho, L phi) coordinates
 };
 

@@ -29,8 +29,8 @@ void LidarOdometry::UpdateThreshold(const SE3& predicted, const SE3& estimated) 
 std::vector<Vec3> LidarOdometry::Downsampled(const std::vector<TimedPoint>& timed,
                                              const SweepMotion& sweep,
                                              std::vector<Vec3>* source) const {
-  std::vector<Vec3> frame = VoxelDownsample(
-      DeskewPoints(timed, sweep), options_.map_downsample_factor * options_.voxel_size_m);
+  std::vector<Vec3> frame = VoxelDownsample(DeskewPoints(timed, sweep),
+                                            options_.map_downsample_factor * options_.voxel_size_m);
   *source = VoxelDownsample(frame, options_.register_downsample_factor * options_.voxel_size_m);
   return frame;
 }
@@ -80,8 +80,8 @@ LidarOdometryResult LidarOdometry::RegisterScan(const LidarScan& scan,
   diag.points_registered = source.size();
   if (source.size() < options_.min_points) {
     return reject("too few points (" + std::to_string(source.size()) + " < " +
-                  std::to_string(options_.min_points) + " after filtering: " +
-                  std::to_string(stats.non_finite) + " non-finite, " +
+                  std::to_string(options_.min_points) +
+                  " after filtering: " + std::to_string(stats.non_finite) + " non-finite, " +
                   std::to_string(stats.out_of_range) + " out of range)");
   }
 
@@ -112,8 +112,7 @@ LidarOdometryResult LidarOdometry::RegisterScan(const LidarScan& scan,
     map_.Clear();
     map_.Update(first_frame, T_world_lidar_);
     frame = Downsampled(timed, sweep, &source);
-    icp = RegisterScanToMap(source, map_, icp.T_map_scan, 3.0 * sigma, sigma / 3.0,
-                            options_.icp);
+    icp = RegisterScanToMap(source, map_, icp.T_map_scan, 3.0 * sigma, sigma / 3.0, options_.icp);
   }
   diag.iterations = icp.iterations;
   diag.correspondences = icp.correspondences;

@@ -20,10 +20,10 @@ Pair MakePair(const testing::Scene& scene, const SE3& T_world_a, const SE3& T_wo
   Pair pair;
   testing::ScannerModel model;
   model.range_noise_m = 0.01;
-  const auto a = PositionsOf(FilterScanPoints(testing::StaticScan(scene, T_world_a, model, 1),
-                                              {}, nullptr));
-  const auto b = PositionsOf(FilterScanPoints(testing::StaticScan(scene, T_world_b, model, 2),
-                                              {}, nullptr));
+  const auto a =
+      PositionsOf(FilterScanPoints(testing::StaticScan(scene, T_world_a, model, 1), {}, nullptr));
+  const auto b =
+      PositionsOf(FilterScanPoints(testing::StaticScan(scene, T_world_b, model, 2), {}, nullptr));
   pair.map.Update(a, T_world_a);  // full resolution: up to 20 points per voxel
   pair.source = VoxelDownsample(VoxelDownsample(b, 0.5 * kVoxel), 1.5 * kVoxel);
   return pair;

@@ -12,8 +12,8 @@ namespace {
 TEST(LidarPreprocessing, DropsNonFiniteAndOutOfRangePointsAndCountsThem) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  std::vector<LidarPoint> points = {{5, 0, 0, 1, 0, 0},   {nan, 0, 0, 1, 0, 0},
-                                    {0, inf, 0, 1, 0, 0}, {3, 0, 0, 1, nan, 0},
+  std::vector<LidarPoint> points = {{5, 0, 0, 1, 0, 0},    {nan, 0, 0, 1, 0, 0},
+                                    {0, inf, 0, 1, 0, 0},  {3, 0, 0, 1, nan, 0},
                                     {0.2f, 0, 0, 1, 0, 0}, {150, 0, 0, 1, 0, 0}};
   LidarFilterStats stats;
   const auto kept = FilterScanPoints(points, {.min_range_m = 1.0, .max_range_m = 100.0}, &stats);
@@ -30,7 +30,7 @@ TEST(LidarPreprocessing, VoxelDownsampleKeepsOnePointPerVoxel) {
   for (int i = 0; i < 100; ++i) points.emplace_back(0.01 * i, 0.3, -0.3);  // x in [0, 1)
   const auto out = VoxelDownsample(points, 0.5);
   ASSERT_EQ(out.size(), 2u);
-  EXPECT_EQ(out[0].x(), 0.0);   // first of each voxel, in input order
+  EXPECT_EQ(out[0].x(), 0.0);  // first of each voxel, in input order
   EXPECT_NEAR(out[1].x(), 0.5, 1e-12);
 }
 

@@ -128,9 +128,9 @@ inline std::vector<LidarPoint> Scan(const Scene& scene, const std::function<SE3(
     const SE3 T_world_lidar = pose(t);
     const double az = 2 * M_PI * c / m.columns;
     for (int r = 0; r < m.rings; ++r) {
-      const double el = (m.min_elevation_deg + (m.max_elevation_deg - m.min_elevation_deg) * r /
-                                                   (m.rings - 1)) *
-                        M_PI / 180.0;
+      const double el =
+          (m.min_elevation_deg + (m.max_elevation_deg - m.min_elevation_deg) * r / (m.rings - 1)) *
+          M_PI / 180.0;
       const Vec3 d_lidar(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
       const Vec3 d_world = T_world_lidar.rotation() * d_lidar;
       double range = scene.Cast(T_world_lidar.translation(), d_world);
@@ -147,7 +147,8 @@ inline std::vector<LidarPoint> Scan(const Scene& scene, const std::function<SE3(
 
 inline std::vector<LidarPoint> StaticScan(const Scene& scene, const SE3& T_world_lidar,
                                           const ScannerModel& m = {}, std::uint64_t seed = 1) {
-  return Scan(scene, [&](double) { return T_world_lidar; }, m, seed);
+  return Scan(
+      scene, [&](double) { return T_world_lidar; }, m, seed);
 }
 
 }  // namespace statebench::est::testing
