@@ -64,6 +64,7 @@ struct EkfSingleTrackEstimator::Impl {
   Vec3 p_body_imu = Vec3::Zero();
   std::map<std::string, SensorInfo> sensors;
   std::string course_antenna;
+  bool has_steering = false;  // without a steering encoder r is a random walk, vy relaxes to 0
 
   EstimatorDiagnostics diag;
   std::optional<LocalEnuFrame> frame;
@@ -118,6 +119,7 @@ struct EkfSingleTrackEstimator::Impl {
           break;
         case SensorKind::kSteeringEncoder:
           info.role = Role::kSteering;
+          has_steering = true;
           break;
         default:
           info.role = Role::kUnsupported;
@@ -158,6 +160,11 @@ struct EkfSingleTrackEstimator::Impl {
                                     (options.blend_high_speed_mps - options.blend_low_speed_mps),
                                 0.0, 1.0);
     double vy_dot = 0.0, r_dot = 0.0;
+    if (!has_steering) {
+      d[kVy] = -vy / options.kinematic_time_constant_s;
+      d[kR] = 0.0;
+      return d;
+    }
     if (w > 0.0) {
       const double alpha_f = delta_f - (vy + lf * r) / vx;
       const double alpha_r = delta_r - (vy - lr * r) / vx;

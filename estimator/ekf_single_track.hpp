@@ -21,6 +21,8 @@
 //     delta_f - tan delta_r)/L, time constant kinematic_time_constant_s), linearly blended
 //     up to blend_high_speed_mps, so the model stays well posed at standstill; kinematic when
 //     reversing.
+//   Without a steering encoder in the setup: r' = 0 (a random walk the gyro drives) and vy
+//     relaxes to 0 (no side slip) with kinematic_time_constant_s.
 // Updates: IMU gyro z (body) as r + b_g, every sample; speed encoder as vx - r l_y at the
 //   sensor; GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
 //   to the fix stamp by the current velocity when it arrives late; GNSS height in the altitude

@@ -54,6 +54,15 @@ inline const GeodeticPoint kDriveOrigin{45.478, 9.227, 120.0};  // Milan
 
 // with_heading: a second antenna 1.6 m behind the first and a dual-antenna heading message
 // (baseline rear -> front, along body +x).
+// IMU and GNSS antenna only (no encoders).
+inline EstimatorSensorSetup MakeMinimalDriveSetup() {
+  const std::string yaml =
+      "name: ekf_test_minimal\nsensors:\n"
+      "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.5]}}\n"
+      "  - {type: gnss, id: gnss, T_body_sensor: {translation: [0.8, 0, 1.4]}}\n";
+  return ParseEstimatorSensorSetup(YamlNode::LoadString(yaml, "ekf_test_minimal.yaml"));
+}
+
 inline EstimatorSensorSetup MakeDriveSetup(bool with_heading = false) {
   const std::string yaml =
       "name: ekf_test\nsensors:\n"
