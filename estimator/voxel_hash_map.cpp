@@ -47,10 +47,26 @@ void VoxelHashMap::RemoveVoxelsFarFrom(const Vec3& origin_world) {
 bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
                                    double* distance_m) const {
   const Voxel center = VoxelOf(query_world);
+  // Offset of the query inside its voxel, in [0, v) per axis: a neighbour voxel at offset
+  // d in {-1, 0, 1} is at least (v - s) (d = 1), s (d = -1) or 0 (d = 0) away along that axis.
+  // Voxels that cannot beat the best distance so far are skipped before the hash lookup; the
+  // query's own voxel is searched first to make that bound tight early.
+  const double v = options_.voxel_size_m;
+  const Vec3 s = query_world - center.cast<double>() * v;
+  auto gap2 = [&](int axis, int d) {
+    const double g = d > 0 ? v - s(axis) : (d < 0 ? s(axis) : 0.0);
+    return g * g;
+  };
+  static constexpr int kOrder[3] = {0, -1, 1};
   double best2 = std::numeric_limits<double>::infinity();
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
+  for (const int dx : kOrder) {
+    const double gx = gap2(0, dx);
+    if (gx >= best2) continue;
+    for (const int dy : kOrder) {
+      const double gxy = gx + gap2(1, dy);
+      if (gxy >= best2) continue;
+      for (const int dz : kOrder) {
+        if (gxy + gap2(2, dz) >= best2) continue;
         const auto it = voxels_.find(center + Voxel(dx, dy, dz));
         if (it == voxels_.end()) continue;
         for (const Vec3& p : it->second) {
