@@ -29,7 +29,8 @@ constexpr const char* kUsage =
     "                           [--icp projected|point-to-point] [--quiet]\n"
     "  Lidar-only odometry (KISS-ICP-style, surface-projected robust ICP) of the log's first\n"
     "  lidar (or --lidar ID). Writes odometry.tum (lidar frame in the log's world, started at\n"
-    "  the truth's lidar pose when the log has truth), diagnostics.json, and metrics.json with\n"
+    "  the truth's lidar pose when the log has truth), scans.csv (per-scan diagnostics),\n"
+    "  diagnostics.json, and metrics.json with\n"
     "  the KITTI relative error when the log holds truth. --icp point-to-point runs plain\n"
     "  point-to-point ICP (KISS-ICP's metric) for comparison.\n";
 
@@ -87,6 +88,9 @@ int RunOdometry(const std::vector<std::string>& argv) {
 
     std::filesystem::create_directories(out_dir);
     std::ofstream tum(out_dir / "odometry.tum");
+    std::ofstream per_scan(out_dir / "scans.csv");
+    per_scan << "t_s,accepted,reason,points_in,non_finite,points_registered,iterations,"
+                "correspondences,degenerate,degenerate_directions,threshold_m,residual_sigma_m\n";
     est::LidarOdometryOptions odometry_options;
     const std::string icp = args->Option("icp").value_or("projected");
     if (icp == "point-to-point") {
@@ -110,6 +114,12 @@ int RunOdometry(const std::vector<std::string>& argv) {
       register_s +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - register_start).count();
       points_in += static_cast<double>(r.diagnostics.points_in);
+      const est::LidarOdometryDiagnostics& d = r.diagnostics;
+      per_scan << ToSeconds(r.stamp_ns) << ',' << (r.accepted ? 1 : 0) << ",\"" << r.reject_reason
+               << "\"," << d.points_in << ',' << d.non_finite << ',' << d.points_registered << ','
+               << d.iterations << ',' << d.correspondences << ',' << (d.degenerate ? 1 : 0) << ','
+               << d.degenerate_directions << ',' << d.threshold_m << ',' << d.residual_sigma_m
+               << '\n';
       if (!r.accepted) {
         ++rejected[r.reject_reason.substr(0, r.reject_reason.find(" ("))];
         continue;
