@@ -15,7 +15,8 @@
 #include "core/error.hpp"
 #include "core/truth_io.hpp"
 #include "estimator/estimator_config.hpp"
-#include "estimator/factor_graph_estimator.hpp"
+#include "core/geodetic.hpp"
+#include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
 #include "reports/metrics_json.hpp"
 #include "sensors/log_reader.hpp"
@@ -24,17 +25,19 @@ namespace statebench::app {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: statebench estimate LOG --out DIR [--config OPTIONS.yaml] [--setup SETUP.yaml]\n"
+    "usage: statebench estimate LOG --out DIR [--estimator factor_graph|ekf] [--config OPTIONS.yaml]\n"
+    "                           [--setup SETUP.yaml] [--vehicle VEHICLE.yaml]\n"
     "                           [--full-covariance] [--quiet]\n"
-    "  Runs the factor-graph estimator on a recorded log (simulated or converted from a real\n"
-    "  vehicle) and writes the estimate at IMU rate (estimate.csv with the covariance diagonal,\n"
-    "  or the full covariance with --full-covariance; estimate.tum), diagnostics.json, and\n"
-    "  metrics.json when the log holds truth. --config defaults to\n"
-    "  scenarios/estimators/factor_graph.yaml, --setup to the log's own sensor setup.\n";
+    "  Runs an estimator (default: the factor graph) on a recorded log (simulated or converted\n"
+    "  from a real vehicle) and writes the estimate at IMU rate (estimate.csv with the covariance\n"
+    "  diagonal, or the full covariance with --full-covariance; estimate.tum), diagnostics.json,\n"
+    "  and metrics.json when the log holds truth. --config defaults to\n"
+    "  scenarios/estimators/<estimator>.yaml, --setup to the log's own sensor setup; the EKF\n"
+    "  baseline also needs the vehicle parameters (--vehicle scenarios/vehicles/quadricycle.yaml).\n";
 
-std::filesystem::path DefaultEstimatorConfig() {
+std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
   const char* src = std::getenv("STATEBENCH_SOURCE_DIR");
-  return std::filesystem::path(src ? src : ".") / "scenarios/estimators/factor_graph.yaml";
+  return std::filesystem::path(src ? src : ".") / "scenarios/estimators" / (estimator + ".yaml");
 }
 
 double Percentile(std::vector<double> v, double p) {
@@ -86,7 +89,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
 
 int RunEstimate(const std::vector<std::string>& argv) {
   const auto parsed = ParseCommand({"estimate", kUsage, {"quiet", "full-covariance"},
-                                    {"out", "config", "setup"}, 1, {"out"}},
+                                    {"out", "config", "setup", "estimator", "vehicle"}, 1, {"out"}},
                                    argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
@@ -106,10 +109,16 @@ int RunEstimate(const std::vector<std::string>& argv) {
                        ": the log names no sensor setup; pass --setup SETUP.yaml");
     }
     const est::EstimatorSensorSetup setup = est::LoadEstimatorSensorSetup(setup_file);
-    est::FactorGraphOptions options =
-        est::LoadFactorGraphOptions(args->Option("config").value_or(DefaultEstimatorConfig().string()));
-    // Report in the log's own ENU frame, so the estimate compares with its truth directly.
-    if (!options.origin && reader.manifest().origin) options.origin = reader.manifest().origin;
+    const std::string name = args->Option("estimator").value_or("factor_graph");
+    est::EstimatorFiles files;
+    files.options = args->Option("config").value_or(DefaultEstimatorConfig(name).string());
+    if (const auto vehicle = args->Option("vehicle")) files.vehicle = *vehicle;
+    // Estimators anchor their ENU frame where they like (configured origin or first fix); the
+    // estimate is re-expressed in the log's ENU frame through its WGS84 position so that it
+    // compares with the log's truth (the frames' axes differ by the meridian convergence
+    // between the two origins, micro-radians over a drive, which is neglected).
+    std::optional<LocalEnuFrame> log_frame;
+    if (reader.manifest().origin) log_frame.emplace(*reader.manifest().origin);
 
     std::vector<TruthSample> truth;
     std::optional<std::string> truth_error;
@@ -121,7 +130,8 @@ int RunEstimate(const std::vector<std::string>& argv) {
     const double end_s = truth.empty() ? 0.0 : ToSeconds(truth.back().t_ns);
 
     std::filesystem::create_directories(out_dir);
-    est::FactorGraphEstimator estimator(setup, options);
+    const std::unique_ptr<est::Estimator> estimator_ptr = est::MakeEstimator(name, setup, files);
+    est::Estimator& estimator = *estimator_ptr;
     reports::EstimateWriter writer(out_dir, args->Flag("full-covariance"));
     std::vector<StateEstimate> estimates;
     ProgressBar bar("estimate " + log_dir.filename().string());
@@ -130,7 +140,10 @@ int RunEstimate(const std::vector<std::string>& argv) {
       estimator.Add(*m);
       const auto* imu = std::get_if<ImuSample>(&*m);
       if (imu == nullptr || imu->header.sensor_id != setup.imu_id) continue;
-      if (const auto e = estimator.StateAt(imu->header.stamp_ns)) {
+      if (auto e = estimator.StateAt(imu->header.stamp_ns)) {
+        if (log_frame) {
+          e->state.p_world = log_frame->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+        }
         writer.Write(*e);
         estimates.push_back(*e);
       }
