@@ -10,6 +10,7 @@ namespace statebench::app {
 int RunSimulate(const std::vector<std::string>& args);
 int RunRecord(const std::vector<std::string>& args);
 int RunEstimate(const std::vector<std::string>& args);
+int RunRun(const std::vector<std::string>& args);
 int RunOdometry(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

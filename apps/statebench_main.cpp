@@ -14,6 +14,7 @@ constexpr const char* kUsage =
     "  simulate SCENARIO.yaml --out DIR   exact ground truth of a scenario (SUMO + vehicle model)\n"
     "  record SCENARIO.yaml --out LOG     simulate every sensor of the scenario's setup into a log\n"
     "  estimate LOG --out DIR             run the factor-graph estimator on a recorded log\n"
+    "  run SCENARIO.yaml --out DIR        simulation, sensors and estimators in one process, scored\n"
     "  odometry LOG --out DIR             lidar-only odometry of a recorded log (TUM, KITTI error)\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   if (command == "simulate") return statebench::app::RunSimulate(args);
   if (command == "record") return statebench::app::RunRecord(args);
   if (command == "estimate") return statebench::app::RunEstimate(args);
+  if (command == "run") return statebench::app::RunRun(args);
   if (command == "odometry") return statebench::app::RunOdometry(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
