@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/diagnostics_json.hpp"
 #include "apps/progress_bar.hpp"
@@ -55,15 +56,7 @@ int RunEstimate(const std::vector<std::string>& argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     sensors::LogReader reader(log_dir);
-    std::filesystem::path setup_file;
-    if (const auto s = args->Option("setup")) {
-      setup_file = *s;
-    } else if (const auto s2 = reader.setup_file()) {
-      setup_file = *s2;
-    } else {
-      throw InputError((log_dir / "log.yaml").string() +
-                       ": the log names no sensor setup; pass --setup SETUP.yaml");
-    }
+    const std::filesystem::path setup_file = SetupFileOf(*args, reader, log_dir);
     const est::EstimatorSensorSetup setup = est::LoadEstimatorSensorSetup(setup_file);
     const std::string name = args->Option("estimator").value_or("factor_graph");
     est::EstimatorFiles files;
@@ -143,12 +136,8 @@ int RunEstimate(const std::vector<std::string>& argv) {
       return 2;
     }
     return 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeForCurrentException("estimate");
   }
 }
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "core/error.hpp"
 #include "core/truth_io.hpp"
@@ -55,15 +56,7 @@ int RunOdometry(const std::vector<std::string>& argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     sensors::LogReader reader(log_dir);
-    std::filesystem::path setup_file;
-    if (const auto s = args->Option("setup")) {
-      setup_file = *s;
-    } else if (const auto s2 = reader.setup_file()) {
-      setup_file = *s2;
-    } else {
-      throw InputError((log_dir / "log.yaml").string() +
-                       ": the log names no sensor setup; pass --setup SETUP.yaml");
-    }
+    const std::filesystem::path setup_file = SetupFileOf(*args, reader, log_dir);
     const est::EstimatorSensorSetup setup = est::LoadEstimatorSensorSetup(setup_file);
     const est::EstimatorSensor* lidar = nullptr;
     for (const auto& s : setup.sensors) {
@@ -184,12 +177,8 @@ int RunOdometry(const std::vector<std::string>& argv) {
       return 2;
     }
     return 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeForCurrentException("odometry");
   }
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress_bar.hpp"
 #include "apps/scenario_overrides.hpp"
@@ -112,16 +113,8 @@ int RunRecord(const std::vector<std::string>& argv) {
     std::printf("wall %.1f s (%.1f s for truth + sensors + writing: %.1fx real time)\n", wall_s,
                 synthesis_s, synthesis_s > 0 ? t_s / synthesis_s : 0.0);
     return 0;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "statebench record: %s\n", e.what());
-    return 2;
-  } catch (const InputError& e) {
-    if (!quiet) std::fprintf(stderr, "\n");
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeForCurrentException("record");
   }
 }
 

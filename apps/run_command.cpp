@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/diagnostics_json.hpp"
 #include "apps/progress_bar.hpp"
@@ -167,15 +168,8 @@ int RunRun(const std::vector<std::string>& argv) {
     summary["real_time_factor"] = wall_s > 0 ? end_s / wall_s : 0.0;
     std::ofstream(out_dir / "run.json") << summary.dump(2) << "\n";
     return 0;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "statebench run: %s\n", e.what());
-    return 2;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeForCurrentException("run");
   }
 }
 

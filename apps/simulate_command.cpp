@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress_bar.hpp"
 #include "apps/scenario_overrides.hpp"
@@ -96,15 +97,8 @@ int RunSimulate(const std::vector<std::string>& argv) {
         s.max_lateral_error_m, s.max_traffic_vehicles, s.traffic_lights_stops, wall_s,
         wall_s > 0 ? s.duration_s / wall_s : 0.0, out_dir.string().c_str());
     return 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "statebench simulate: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return ExitCodeForCurrentException("simulate");
   }
 }
 
