@@ -12,15 +12,12 @@
 namespace statebench::sim {
 namespace {
 
+using testing::SourceDir;
+
 using testing::GridScenarioParts;
 using testing::InputErrorOf;
 using testing::TempDir;
 using testing::WriteFile;
-
-std::filesystem::path SourceDir() {
-  const char* dir = std::getenv("STATEBENCH_SOURCE_DIR");
-  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
-}
 
 const sensors::GnssOptions& Gnss(const ScenarioSensors& s, const std::string& id) {
   return std::get<sensors::GnssOptions>(s.setup.Find(id)->options);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/simulator/sumo_test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -18,15 +20,10 @@
 namespace statebench::sim {
 namespace {
 
-std::filesystem::path SourceDir() {
-  const char* dir = std::getenv("STATEBENCH_SOURCE_DIR");
-  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
-}
+using testing::SourceDir;
 
 std::filesystem::path WorkDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("statebench_sensor_run_" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return testing::FreshWorkDir("sensor_run", name);
 }
 
 Scenario Setup2(double duration_s) {

@@ -14,6 +14,19 @@
 
 namespace statebench::sim::testing {
 
+// The source tree (ctest sets STATEBENCH_SOURCE_DIR; tests also run from the repository root).
+inline std::filesystem::path SourceDir() {
+  const char* dir = std::getenv("STATEBENCH_SOURCE_DIR");
+  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
+}
+
+// An emptied folder <tmp>/statebench_<prefix>_<name> for one run's outputs.
+inline std::filesystem::path FreshWorkDir(const std::string& prefix, const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("statebench_" + prefix + "_" + name);
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
 class TempDir {
  public:
   TempDir() {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/simulator/sumo_test_support.hpp"
+
 #include <cstdlib>
 #include <fstream>
 
@@ -12,15 +14,10 @@
 namespace statebench::sim {
 namespace {
 
-std::filesystem::path SourceDir() {
-  const char* dir = std::getenv("STATEBENCH_SOURCE_DIR");
-  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
-}
+using testing::SourceDir;
 
 std::filesystem::path WorkDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("statebench_truth_" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return testing::FreshWorkDir("truth", name);
 }
 
 Scenario UrbanLoop(double duration_s, std::uint64_t seed) {
