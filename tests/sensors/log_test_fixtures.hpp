@@ -3,6 +3,8 @@
 // round trip reproduces them, in arrival order.
 #pragma once
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -22,8 +24,10 @@ namespace statebench::sensors::testing {
 
 class TempLogDir {
  public:
+  // The process id keeps test programs that ctest runs in parallel out of each other's folders.
   explicit TempLogDir(const std::string& name)
-      : path_(std::filesystem::temp_directory_path() / ("statebench_log_test_" + name)) {
+      : path_(std::filesystem::temp_directory_path() /
+              ("statebench_log_test_" + std::to_string(::getpid()) + "_" + name)) {
     std::filesystem::remove_all(path_);
   }
   ~TempLogDir() {
