@@ -119,6 +119,8 @@ LidarOdometryResult LidarOdometry::RegisterScan(const LidarScan& scan,
   if (!icp.ok) return reject("registration failed: " + icp.failure);
   diag.degenerate = icp.degenerate;
   diag.degenerate_directions = icp.degenerate_directions;
+  diag.information_eigenvalues = icp.scaled_eigenvalues;
+  diag.weakest_direction = icp.scaled_eigenvectors.col(0);
   diag.residual_sigma_m = icp.residual_sigma_m;
 
   // The ICP covariance is of the right perturbation of T_world_lidar; with the previous pose
