@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
 #include <set>
 
+#include "core/yaml_merge.hpp"
+#include "estimator/estimator_factory.hpp"
 #include "simulator/scenario_parsing.hpp"
 
 namespace statebench::sim {
@@ -145,7 +148,135 @@ SumoSpec ParseSumo(const YamlNode& node) {
   return sumo;
 }
 
+// A label names an output folder: letters, digits, '_', '-', '.', not starting with '.'.
+bool IsValidLabel(const std::string& label) {
+  if (label.empty() || label.front() == '.') return false;
+  return std::all_of(label.begin(), label.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
+  });
+}
+
+std::string KnownEstimatorList() {
+  std::string list;
+  for (const std::string& k : est::KnownEstimators()) list += (list.empty() ? "" : ", ") + k;
+  return list;
+}
+
+// One entry: `- ekf` (type, labelled by it) or `- {name, type, config, overrides}`.
+EstimatorSpec ParseEstimatorEntry(const YamlNode& entry, const fs::path& scenario_dir) {
+  EstimatorSpec spec;
+  spec.source = SourceRef::Of(entry);
+  const YamlNode type_node = entry.IsScalar() ? entry : entry["type"];
+  if (!entry.IsScalar()) entry.ExpectOnlyKeys({"name", "type", "config", "overrides"});
+  spec.type = type_node.As<std::string>();
+  const std::vector<std::string> known = est::KnownEstimators();
+  if (std::find(known.begin(), known.end(), spec.type) == known.end()) {
+    type_node.Fail("unknown estimator type '" + spec.type + "' (known: " + KnownEstimatorList() +
+                   ")");
+  }
+  spec.label = spec.type;
+  if (const auto name = entry.IsScalar() ? std::nullopt : entry.Find("name")) {
+    spec.label = name->As<std::string>();
+    if (!IsValidLabel(spec.label)) {
+      name->Fail("'" + spec.label +
+                 "' cannot name an output folder: use letters, digits, '_', "
+                 "'-' and '.' (not first)");
+    }
+  }
+  if (const auto config = entry.IsScalar() ? std::nullopt : entry.Find("config")) {
+    spec.config = config->ResolvePath(config->As<std::string>());
+    std::error_code ec;
+    if (!fs::is_regular_file(spec.config, ec)) {
+      config->Fail("no such estimator options file: " + spec.config.string());
+    }
+    spec.config = fs::absolute(spec.config).lexically_normal();
+  } else if (const auto found = FindEstimatorConfigFile(scenario_dir, spec.type)) {
+    spec.config = *found;
+  }
+  if (const auto overrides = entry.IsScalar() ? std::nullopt : entry.Find("overrides")) {
+    if (!overrides->IsNull()) {
+      if (!overrides->IsMap()) {
+        overrides->Fail("expected a map of option overrides, e.g. {window_s: 0.5}");
+      }
+      spec.overrides = *overrides;
+    }
+  }
+  return spec;
+}
+
+std::vector<EstimatorSpec> ParseEstimators(const YamlNode& node, const fs::path& scenario_dir) {
+  node.ExpectSequence();
+  if (node.size() == 0) {
+    node.Fail(
+        "empty list: name at least one estimator, or leave 'estimators' out for the "
+        "default (factor_graph and ekf)");
+  }
+  std::vector<EstimatorSpec> specs;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YamlNode entry = node.At(i);
+    EstimatorSpec spec = ParseEstimatorEntry(entry, scenario_dir);
+    for (const EstimatorSpec& other : specs) {
+      if (other.label != spec.label) continue;
+      const YamlNode at = entry.IsMap() && entry.Has("name") ? entry["name"] : entry;
+      at.Fail("duplicate estimator name '" + spec.label + "' (also " + other.source.field + " at " +
+              other.source.where + "): give each entry its own 'name'");
+    }
+    specs.push_back(std::move(spec));
+  }
+  return specs;
+}
+
 }  // namespace
+
+std::optional<fs::path> FindEstimatorConfigFile(const fs::path& scenario_dir_in,
+                                                const std::string& type) {
+  if (type.empty()) return std::nullopt;
+  const fs::path scenario_dir = scenario_dir_in.empty() ? fs::path(".") : scenario_dir_in;
+  const fs::path file = type + ".yaml";
+  std::vector<fs::path> candidates;
+  for (fs::path dir = fs::absolute(scenario_dir); !dir.empty(); dir = dir.parent_path()) {
+    candidates.push_back(dir / "estimators" / file);
+    candidates.push_back(dir / "scenarios" / "estimators" / file);
+    if (dir == dir.parent_path()) break;
+  }
+  if (const char* source_dir = std::getenv("STATEBENCH_SOURCE_DIR")) {
+    candidates.push_back(fs::path(source_dir) / "scenarios" / "estimators" / file);
+  }
+  std::error_code ec;
+  const fs::path cwd = fs::current_path(ec);
+  if (!ec) candidates.push_back(cwd / "scenarios" / "estimators" / file);
+  for (const fs::path& candidate : candidates) {
+    if (fs::is_regular_file(candidate, ec)) return fs::absolute(candidate).lexically_normal();
+  }
+  return std::nullopt;
+}
+
+std::vector<EstimatorSpec> ScenarioEstimators(const Scenario& scenario) {
+  if (!scenario.estimators.empty()) return scenario.estimators;
+  std::vector<EstimatorSpec> specs;
+  for (const std::string type : {"factor_graph", "ekf"}) {
+    EstimatorSpec spec;
+    spec.label = type;
+    spec.type = type;
+    spec.config = FindEstimatorConfigFile(scenario.file.parent_path(), type).value_or(fs::path());
+    spec.source = {scenario.file.string(), "estimators"};
+    specs.push_back(std::move(spec));
+  }
+  return specs;
+}
+
+std::string EstimatorConfigText(const EstimatorSpec& spec, const Scenario& scenario) {
+  const YAML::Node base =
+      spec.config.empty() ? YAML::Node(YAML::NodeType::Map) : YamlNode::LoadFile(spec.config).raw();
+  const YAML::Node merged = MergeYaml(base, spec.overrides ? spec.overrides->raw() : YAML::Node());
+  std::string text = "# Options of estimator '" + spec.label + "' (" + spec.type +
+                     ") of scenario " + scenario.file.string() + " (" + spec.source.where +
+                     "):\n# " + (spec.config.empty() ? "built-in defaults" : spec.config.string());
+  text += spec.overrides ? ", with the scenario's overrides merged over it.\n" : ".\n";
+  const std::string body = ToYamlText(merged);
+  return text + (body.empty() ? "{}\n" : body);
+}
 
 std::optional<fs::path> FindVehicleFile(const fs::path& scenario_dir_in, const std::string& name) {
   if (name.empty()) return std::nullopt;
@@ -171,7 +302,7 @@ std::optional<fs::path> FindVehicleFile(const fs::path& scenario_dir_in, const s
 Scenario LoadScenario(const fs::path& path) {
   const YamlNode root = YamlNode::LoadFile(path);
   root.ExpectOnlyKeys({"name", "seed", "duration_s", "origin", "vehicle", "network", "ego",
-                       "traffic", "sumo", "sensors", "faults"});
+                       "traffic", "sumo", "sensors", "faults", "estimators"});
   Scenario scenario;
   scenario.file = path;
   scenario.name = root.Get<std::string>("name");
@@ -190,6 +321,9 @@ Scenario LoadScenario(const fs::path& path) {
   }
   if (const auto faults = root.Find("faults"); faults && !faults->IsNull()) {
     scenario.faults = *faults;
+  }
+  if (const auto estimators = root.Find("estimators"); estimators && !estimators->IsNull()) {
+    scenario.estimators = ParseEstimators(*estimators, root.Directory());
   }
   return scenario;
 }

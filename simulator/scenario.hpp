@@ -121,6 +121,16 @@ struct SumoSpec {
   double step_s = 0.1;  // (0, 0.1]
 };
 
+// One entry of the scenario's `estimators:` list: an estimator of a known type with its options
+// file and the scenario's overrides of it (docs/scenarios.md).
+struct EstimatorSpec {
+  std::string label;                  // unique in the scenario: output folder, table column
+  std::string type;                   // one of est::KnownEstimators()
+  std::filesystem::path config;       // options file; empty: the type's built-in defaults
+  std::optional<YamlNode> overrides;  // a map, deep-merged over `config`
+  SourceRef source;                   // the list entry, for messages
+};
+
 struct Scenario {
   std::filesystem::path file;
   std::string name;
@@ -134,6 +144,7 @@ struct Scenario {
   SumoSpec sumo;
   std::optional<YamlNode> sensors;  // unparsed: a file name or an inline map (issue 3)
   std::optional<YamlNode> faults;   // unparsed
+  std::vector<EstimatorSpec> estimators;  // empty: none listed (see ScenarioEstimators)
 };
 
 // Parses and checks a scenario file; throws InputError "file:line:col: field 'a.b': ...".
@@ -146,5 +157,21 @@ Scenario LoadScenario(const std::filesystem::path& path);
 // Returns nullopt when not found.
 std::optional<std::filesystem::path> FindVehicleFile(const std::filesystem::path& scenario_dir,
                                                      const std::string& name);
+
+// The default options file of an estimator type, <type>.yaml, looked up like vehicle files:
+// `estimators/` or `scenarios/estimators/` in the scenario's folder or any parent folder, then
+// $STATEBENCH_SOURCE_DIR/scenarios/estimators, then ./scenarios/estimators. nullopt: not found.
+std::optional<std::filesystem::path> FindEstimatorConfigFile(
+    const std::filesystem::path& scenario_dir, const std::string& type);
+
+// The scenario's `estimators:` list, or when it has none the default: factor_graph and ekf with
+// their default options files, labelled by type.
+std::vector<EstimatorSpec> ScenarioEstimators(const Scenario& scenario);
+
+// The options an estimator runs with, as YAML text: `config` with `overrides` deep-merged over
+// it (core/yaml_merge.hpp), under a comment naming both. Written next to the estimate so a run
+// can be repeated; the estimator is built from that written file. Throws InputError when the
+// config file cannot be parsed.
+std::string EstimatorConfigText(const EstimatorSpec& spec, const Scenario& scenario);
 
 }  // namespace statebench::sim

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
+#include "estimator/estimator_config.hpp"
 #include "sumo_test_support.hpp"
 
 namespace statebench::sim {
@@ -281,6 +284,155 @@ TEST(Scenario, PaperScenariosLoad) {
   ASSERT_TRUE(s3.network.xml.has_value());
   EXPECT_LE(*s3.ego.max_speed_mps, 25.0 / 3.6 + 1e-9);
   EXPECT_GE(s3.duration_s, 100.0);
+}
+
+// A grid scenario whose `estimators:` list (line 23) is `list` (entries from line 24 on).
+std::filesystem::path WriteWithEstimators(const TempDir& dir, const std::string& list) {
+  GridScenarioParts parts;
+  parts.rest = "sumo:\n  step_s: 0.1\nestimators:\n" + list;
+  return WriteFile(dir.path() / "est.yaml", parts.Text());
+}
+
+TEST(Scenario, ParsesTheEstimatorsList) {
+  TempDir dir;
+  WriteFile(dir.path() / "options" / "fg.yaml", "window_s: 2.0\n");
+  const auto file =
+      WriteWithEstimators(dir,
+                          "  - {name: fg_w0.5, type: factor_graph, config: options/fg.yaml,\n"
+                          "     overrides: {window_s: 0.5, gnss: {max_sigma_m: 3.0}}}\n"
+                          "  - ekf\n"
+                          "  - {type: factor_graph}\n");
+  const Scenario s = LoadScenario(file);
+  ASSERT_EQ(s.estimators.size(), 3u);
+  EXPECT_EQ(s.estimators[0].label, "fg_w0.5");
+  EXPECT_EQ(s.estimators[0].type, "factor_graph");
+  EXPECT_EQ(s.estimators[0].config, dir.path() / "options" / "fg.yaml");
+  ASSERT_TRUE(s.estimators[0].overrides.has_value());
+  EXPECT_EQ(s.estimators[0].source.where, file.string() + ":24:5");
+  EXPECT_EQ(s.estimators[0].source.field, "estimators[0]");
+  // Shorthand and defaults: labelled by type, the stock options file of the type.
+  EXPECT_EQ(s.estimators[1].label, "ekf");
+  EXPECT_EQ(s.estimators[1].type, "ekf");
+  EXPECT_EQ(s.estimators[1].config.filename(), "ekf.yaml");
+  EXPECT_TRUE(std::filesystem::is_regular_file(s.estimators[1].config));
+  EXPECT_FALSE(s.estimators[1].overrides.has_value());
+  EXPECT_EQ(s.estimators[2].label, "factor_graph");
+  EXPECT_EQ(s.estimators[2].config.filename(), "factor_graph.yaml");
+  EXPECT_EQ(ScenarioEstimators(s).size(), 3u);
+}
+
+TEST(Scenario, WithoutEstimatorsListRunsFactorGraphAndEkf) {
+  TempDir dir;
+  const Scenario s = LoadScenario(WriteFile(dir.path() / "s.yaml", GridScenarioParts().Text()));
+  EXPECT_TRUE(s.estimators.empty());
+  const std::vector<EstimatorSpec> specs = ScenarioEstimators(s);
+  ASSERT_EQ(specs.size(), 2u);
+  EXPECT_EQ(specs[0].label, "factor_graph");
+  EXPECT_EQ(specs[1].label, "ekf");
+  EXPECT_EQ(specs[1].config.filename(), "ekf.yaml");
+}
+
+TEST(Scenario, EstimatorErrorsNameFileLineAndField) {
+  TempDir dir;
+  auto file = WriteWithEstimators(dir, "  - factor_graph\n  - {name: x, type: kalman}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":25:21",
+              "estimators[1].type", "unknown estimator type 'kalman' (known: factor_graph, ekf)");
+
+  file =
+      WriteWithEstimators(dir, "  - {name: fg, type: factor_graph}\n  - {name: fg, type: ekf}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":25:12",
+              "estimators[1].name",
+              "duplicate estimator name 'fg' (also estimators[0] at " + file.string() + ":24:5)");
+
+  file = WriteWithEstimators(dir, "  - ekf\n  - ekf\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":25:5", "estimators[1]",
+              "duplicate estimator name 'ekf'");
+
+  file = WriteWithEstimators(dir, "  - {type: factor_graph, overrides: [window_s, 0.5]}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":24:37",
+              "estimators[0].overrides", "expected a map of option overrides");
+
+  file = WriteWithEstimators(dir, "  - {type: ekf, config: nowhere/ekf.yaml}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":24:25",
+              "estimators[0].config", "no such estimator options file");
+
+  file = WriteWithEstimators(dir, "  - {name: ../up, type: ekf}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":24:12",
+              "estimators[0].name", "cannot name an output folder");
+
+  file = WriteWithEstimators(dir, "  - {type: ekf, window_s: 0.5}\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":24:17",
+              "estimators[0].window_s", "unknown field");
+
+  file = WriteWithEstimators(dir, "  []\n");
+  ExpectError(InputErrorOf([&] { LoadScenario(file); }), file.string() + ":24:3", "estimators",
+              "empty list");
+}
+
+// 1-based number of the line of `text` that starts with `prefix`, 0 if none.
+int LineStartingWith(const std::string& text, const std::string& prefix) {
+  std::istringstream in(text);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.rfind(prefix, 0) == 0) return n;
+  }
+  return 0;
+}
+
+TEST(Scenario, EstimatorConfigMergesOverridesOverTheOptionsFile) {
+  TempDir dir;
+  WriteFile(dir.path() / "fg.yaml",
+            "window_s: 2.0\nimu_samples_per_state: 10\ngnss: {max_sigma_m: 5.0, gate_chi2: 9.0}\n");
+  const auto file =
+      WriteWithEstimators(dir,
+                          "  - {name: a, type: factor_graph, config: fg.yaml,\n"
+                          "     overrides: {window_s: 0.5, gnss: {max_sigma_m: 3.0}}}\n");
+  const Scenario s = LoadScenario(file);
+  const std::string text = EstimatorConfigText(s.estimators.at(0), s);
+  EXPECT_NE(text.find("estimator 'a' (factor_graph)"), std::string::npos) << text;
+  EXPECT_NE(text.find(file.string() + ":24:5"), std::string::npos) << text;
+  const auto written = WriteFile(dir.path() / "out" / "estimator_config.yaml", text);
+  const est::FactorGraphOptions options = est::LoadFactorGraphOptions(written);
+  EXPECT_DOUBLE_EQ(options.window_s, 0.5);
+  EXPECT_EQ(options.imu_samples_per_state, 10);
+  EXPECT_DOUBLE_EQ(options.gnss.max_sigma, 3.0);
+  EXPECT_DOUBLE_EQ(options.gnss.gate_chi2, 9.0);
+}
+
+TEST(Scenario, BadOverrideValueFailsAtTheLineOfTheWrittenConfig) {
+  TempDir dir;
+  const auto file = WriteWithEstimators(
+      dir, "  - {name: a, type: factor_graph, overrides: {imu_samples_per_state: many}}\n");
+  const Scenario s = LoadScenario(file);
+  const std::string text = EstimatorConfigText(s.estimators.at(0), s);
+  const int line = LineStartingWith(text, "imu_samples_per_state: many");
+  ASSERT_GT(line, 0) << text;
+  const auto written = WriteFile(dir.path() / "out" / "estimator_config.yaml", text);
+  ExpectError(InputErrorOf([&] { est::LoadFactorGraphOptions(written); }),
+              written.string() + ":" + std::to_string(line) + ":", "imu_samples_per_state", "many");
+}
+
+TEST(Scenario, PaperScenariosNameTheirEstimators) {
+  const std::filesystem::path paper = "scenarios/paper";
+  const Scenario s1 = LoadScenario(paper / "setup1_quadricycle.yaml");
+  // Windows 0.5, 1, 1.5, 2 s, each with and without the kinematic factor, and the EKF.
+  ASSERT_EQ(s1.estimators.size(), 9u);
+  int factor_graphs = 0;
+  for (const EstimatorSpec& spec : s1.estimators) {
+    factor_graphs += spec.type == "factor_graph";
+    if (spec.type == "factor_graph") {
+      EXPECT_TRUE(spec.overrides.has_value()) << spec.label;
+    }
+  }
+  EXPECT_EQ(factor_graphs, 8);
+  for (const char* name : {"setup2_quadricycle", "setup3_shuttle", "setup3_shuttle_rtk"}) {
+    const Scenario s = LoadScenario(paper / (std::string(name) + ".yaml"));
+    EXPECT_EQ(s.name, name);
+    const std::vector<EstimatorSpec> specs = ScenarioEstimators(s);
+    ASSERT_GE(specs.size(), 2u) << name;
+    EXPECT_EQ(specs[0].type, "factor_graph") << name;
+    EXPECT_EQ(specs[1].type, "ekf") << name;
+  }
 }
 
 }  // namespace
