@@ -5,13 +5,14 @@
 //   merged:    {window_s: 0.5, gnss: {max_sigma_m: 3.0, gate_chi2: 16.27}}
 //
 // Maps merge key by key, recursively; any other override value (scalar, sequence, null) replaces
-// the base value whole. A null or undefined overrides document leaves the base as it is. Keys only in the overrides are added: whether they are valid is for the
-// loader of the merged document to say.
+// the base value whole. A null or undefined overrides document leaves the base as it is. Keys only
+// in the overrides are added: whether they are valid is for the loader of the merged document to
+// say.
 #pragma once
 
-#include <string>
-
 #include <yaml-cpp/yaml.h>
+
+#include <string>
 
 namespace statebench {
 
@@ -19,7 +20,8 @@ namespace statebench {
 // built from clones).
 YAML::Node MergeYaml(const YAML::Node& base, const YAML::Node& overrides);
 
-// Block-style YAML text of `node` (one key per line, whatever style it was read in), ending in a newline ("" for an undefined or null node).
+// Block-style YAML text of `node` (one key per line, whatever style it was read in), ending in a
+// newline ("" for an undefined or null node).
 std::string ToYamlText(const YAML::Node& node);
 
 }  // namespace statebench

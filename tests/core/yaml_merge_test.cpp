@@ -26,7 +26,7 @@ TEST(YamlMerge, MergesMapsRecursivelyAndReplacesEverythingElse) {
   ASSERT_TRUE(merged["list"].IsSequence());
   ASSERT_EQ(merged["list"].size(), 1u);  // sequences are replaced, not appended to
   EXPECT_EQ(merged["list"][0].as<int>(), 9);
-  EXPECT_FALSE(merged["kinematic"].as<bool>());  // a scalar replaces a map
+  EXPECT_FALSE(merged["kinematic"].as<bool>());        // a scalar replaces a map
   EXPECT_TRUE(merged["lidar"]["enabled"].as<bool>());  // keys only in the overrides are added
 }
 
