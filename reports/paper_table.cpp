@@ -31,6 +31,8 @@ std::optional<double> PaperNumber(const std::string& scenario, const std::string
 }
 
 std::optional<double> Read(const nlohmann::json& metrics, const TableMetric& metric) {
+  const nlohmann::json::json_pointer count(metric.count_pointer);
+  if (metrics.contains(count) && metrics.at(count) == 0) return std::nullopt;
   const nlohmann::json::json_pointer pointer(metric.pointer);
   if (!metrics.contains(pointer)) return std::nullopt;
   const nlohmann::json& v = metrics.at(pointer);
@@ -79,26 +81,30 @@ std::string PaperCell(const TableSection& s, const TableRow& row, const std::str
 }  // namespace
 
 const std::vector<TableMetric>& TableMetrics() {
+  static const std::string kOutageCount = "/during_outages/0/compared";
   static const std::vector<TableMetric> metrics = {
-      {"rmse_x", "RMSE X [m]", "/rmse/x_m", 3, false},
-      {"rmse_y", "RMSE Y [m]", "/rmse/y_m", 3, false},
-      {"rmse_yaw", "RMSE yaw [rad]", "/rmse/yaw_rad", 4, false},
-      {"rmse_v_lon", "RMSE longitudinal velocity [m/s]", "/rmse/v_longitudinal_mps", 3, false},
-      {"ape", "APE translation RMSE [m]", "/ape/translation_m/rmse", 3, false},
-      {"nees", "pose NEES, mean (6 dof: ideal 6)", "/nees/pose_6dof_mean", 2, false},
-      {"outage_rmse_x", "GNSS outage: RMSE X [m]", "/during_outages/0/rmse/x_m", 3, false},
-      {"outage_rmse_y", "GNSS outage: RMSE Y [m]", "/during_outages/0/rmse/y_m", 3, false},
-      {"outage_rmse_yaw", "GNSS outage: RMSE yaw [rad]", "/during_outages/0/rmse/yaw_rad", 4,
-       false},
+      {"rmse_x", "RMSE X [m]", "/rmse/x_m", 3},
+      {"rmse_y", "RMSE Y [m]", "/rmse/y_m", 3},
+      {"rmse_yaw", "RMSE yaw [rad]", "/rmse/yaw_rad", 4},
+      {"rmse_v_lon", "RMSE longitudinal velocity [m/s]", "/rmse/v_longitudinal_mps", 3},
+      {"ape", "APE translation RMSE [m]", "/ape/translation_m/rmse", 3},
+      {"nees", "pose NEES, mean (6 dof: ideal 6)", "/nees/pose_6dof_mean", 2},
+      {"outage_rmse_x", "GNSS outage: RMSE X [m]", "/during_outages/0/rmse/x_m", 3, false,
+       kOutageCount},
+      {"outage_rmse_y", "GNSS outage: RMSE Y [m]", "/during_outages/0/rmse/y_m", 3, false,
+       kOutageCount},
+      {"outage_rmse_yaw", "GNSS outage: RMSE yaw [rad]", "/during_outages/0/rmse/yaw_rad", 4, false,
+       kOutageCount},
       {"outage_rmse_v_lon", "GNSS outage: RMSE longitudinal velocity [m/s]",
-       "/during_outages/0/rmse/v_longitudinal_mps", 3, false},
-      {"outage_distance", "GNSS outage: distance driven [m]", "/outages/0/distance_m", 0, false},
+       "/during_outages/0/rmse/v_longitudinal_mps", 3, false, kOutageCount},
+      {"outage_distance", "GNSS outage: distance driven [m]", "/outages/0/distance_m", 0, false,
+       kOutageCount},
       {"outage_error_x", "GNSS outage: |error X| at its end [m]", "/outages/0/error_end_x_m", 3,
-       true},
+       true, kOutageCount},
       {"outage_error_y", "GNSS outage: |error Y| at its end [m]", "/outages/0/error_end_y_m", 3,
-       true},
+       true, kOutageCount},
       {"outage_drift", "GNSS outage: position error at its end per distance [%]",
-       "/outages/0/drift_percent_of_distance", 2, false},
+       "/outages/0/drift_percent_of_distance", 2, false, kOutageCount},
   };
   return metrics;
 }

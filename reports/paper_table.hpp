@@ -25,6 +25,9 @@ struct TableMetric {
   std::string pointer;  // JSON pointer into the metrics, e.g. "/rmse/x_m"
   int decimals = 3;
   bool magnitude = false;  // report |value| (signed error components)
+  // Number of estimates behind the value; 0 (e.g. an estimator that never initialised) makes the
+  // value missing rather than a misleading 0.
+  std::string count_pointer = "/compared";
 };
 const std::vector<TableMetric>& TableMetrics();
 

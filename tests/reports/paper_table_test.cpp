@@ -6,14 +6,15 @@ namespace statebench::reports {
 namespace {
 
 nlohmann::json Metrics(double x, double y, double yaw, double v_lon, double ape, double nees) {
-  return {{"rmse", {{"x_m", x}, {"y_m", y}, {"yaw_rad", yaw}, {"v_longitudinal_mps", v_lon}}},
+  return {{"compared", 2400},
+          {"rmse", {{"x_m", x}, {"y_m", y}, {"yaw_rad", yaw}, {"v_longitudinal_mps", v_lon}}},
           {"ape", {{"translation_m", {{"rmse", ape}}}}},
           {"nees", {{"pose_6dof_mean", nees}}},
           {"outages", nlohmann::json::array()},
           {"during_outages", nlohmann::json::array()}};
 }
 
-nlohmann::json Run(const std::string& scenario, const nlohmann::json& estimators) {
+nlohmann::json RunJson(const std::string& scenario, const nlohmann::json& estimators) {
   return {{"scenario", scenario}, {"simulated_s", 240.0},    {"distance_m", 1134.2},
           {"wall_time_s", 80.0},  {"real_time_factor", 3.0}, {"estimators", estimators}};
 }
@@ -27,28 +28,29 @@ std::vector<ScenarioRun> SuiteRuns() {
                            {"error_end_y_m", 0.5},
                            {"drift_percent_of_distance", 0.38}}};
   outage_fg["during_outages"] = {
-      {{"rmse", {{"x_m", 0.7}, {"y_m", 0.35}, {"yaw_rad", 0.012}, {"v_longitudinal_mps", 0.08}}}}};
+      {{"compared", 600},
+       {"rmse", {{"x_m", 0.7}, {"y_m", 0.35}, {"yaw_rad", 0.012}, {"v_longitudinal_mps", 0.08}}}}};
   return {
       {"setup2_quadricycle",
-       Run("setup2_quadricycle",
-           {{{"label", "factor_graph"},
-             {"type", "factor_graph"},
-             {"metrics", Metrics(0.46, 0.507, 0.0273, 0.57, 0.833, 7.34)}},
-            {{"label", "ekf"},
-             {"type", "ekf"},
-             {"metrics", Metrics(0.293, 0.272, 0.0108, 0.066, 0.542, 3.81)}}}),
+       RunJson("setup2_quadricycle",
+               {{{"label", "factor_graph"},
+                 {"type", "factor_graph"},
+                 {"metrics", Metrics(0.46, 0.507, 0.0273, 0.57, 0.833, 7.34)}},
+                {{"label", "ekf"},
+                 {"type", "ekf"},
+                 {"metrics", Metrics(0.293, 0.272, 0.0108, 0.066, 0.542, 3.81)}}}),
        ""},
       {"setup3_shuttle",
-       Run("setup3_shuttle",
-           {{{"label", "factor_graph"}, {"type", "factor_graph"}, {"metrics", outage_fg}},
-            {{"label", "ekf"},
-             {"type", "ekf"},
-             {"metrics", Metrics(0.2, 0.3, 0.02, 0.1, 0.4, 4.0)}}}),
+       RunJson("setup3_shuttle",
+               {{{"label", "factor_graph"}, {"type", "factor_graph"}, {"metrics", outage_fg}},
+                {{"label", "ekf"},
+                 {"type", "ekf"},
+                 {"metrics", Metrics(0.2, 0.3, 0.02, 0.1, 0.4, 4.0)}}}),
        ""},
       {"setup1_quadricycle",
-       Run("setup1_quadricycle", {{{"label", "fg_w0.5"},
-                                   {"type", "factor_graph"},
-                                   {"metrics", Metrics(0.01, 0.02, 0.003, 0.04, 0.025, 6.1)}}}),
+       RunJson("setup1_quadricycle", {{{"label", "fg_w0.5"},
+                                       {"type", "factor_graph"},
+                                       {"metrics", Metrics(0.01, 0.02, 0.003, 0.04, 0.025, 6.1)}}}),
        ""},
       {"setup3_shuttle_rtk", std::nullopt, "exit code 2"},
   };
@@ -126,6 +128,30 @@ TEST(PaperTable, ScenariosWithoutPaperNumbersAndFailedRuns) {
   const std::string md = ToMarkdown(only_paper);
   EXPECT_NE(md.find("**Run failed**: killed"), std::string::npos) << md;
   EXPECT_NE(md.find("| RMSE X [m] | 0.40 | 0.30 |\n"), std::string::npos) << md;
+}
+
+TEST(PaperTable, NoComparedEstimatesMeansNoValue) {
+  // An estimator that never initialised: its zeros are not errors of zero.
+  nlohmann::json never = Metrics(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+  never["compared"] = 0;
+  nlohmann::json outage = Metrics(0.1, 0.2, 0.01, 0.05, 0.3, 5.5);
+  outage["outages"] = {{{"distance_m", 0.0},
+                        {"error_end_x_m", 0.0},
+                        {"error_end_y_m", 0.0},
+                        {"drift_percent_of_distance", 0.0}}};
+  outage["during_outages"] = {{{"compared", 0}, {"rmse", {{"x_m", 0.0}}}}};
+  const PaperTable table = BuildPaperTable(
+      {{"setup2_quadricycle",
+        RunJson("setup2_quadricycle",
+                {{{"label", "factor_graph"}, {"type", "factor_graph"}, {"metrics", never}},
+                 {{"label", "late"}, {"type", "factor_graph"}, {"metrics", outage}}}),
+        ""}});
+  const TableSection& s = table.sections[0];
+  ASSERT_EQ(s.rows.size(), 6u);  // outage rows only had estimates-free entries
+  EXPECT_FALSE(s.rows[0].ours[0].has_value());
+  EXPECT_DOUBLE_EQ(*s.rows[0].ours[1], 0.1);
+  EXPECT_NE(ToMarkdown(table).find("| RMSE X [m] | 0.40 | 0.30 | - | 0.100 |\n"),
+            std::string::npos);
 }
 
 TEST(PaperTable, JsonCarriesPaperSourcesAndOurValues) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "estimator/estimator_config.hpp"
+#include "simulator/scenario_sensors.hpp"
 #include "sumo_test_support.hpp"
 
 namespace statebench::sim {
@@ -432,6 +433,10 @@ TEST(Scenario, PaperScenariosNameTheirEstimators) {
     ASSERT_GE(specs.size(), 2u) << name;
     EXPECT_EQ(specs[0].type, "factor_graph") << name;
     EXPECT_EQ(specs[1].type, "ekf") << name;
+    // Each names a sensor setup file, never a scenario file of the same name.
+    EXPECT_EQ(std::filesystem::path(LoadScenarioSensors(s).setup.source).parent_path().filename(),
+              "setups")
+        << name;
   }
 }
 
