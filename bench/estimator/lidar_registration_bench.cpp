@@ -303,7 +303,7 @@ void BM_OdometryStep(benchmark::State& state) {
     ++k;
   }
   clock.Finish(state, &row);
-  double registered = 0.0, map_voxels = 0.0;
+  double registered = 0.0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const est::LidarOdometryResult& r = results[i];
     const int scan = kWarmupScans + static_cast<int>(i);
@@ -314,7 +314,8 @@ void BM_OdometryStep(benchmark::State& state) {
     }
     row.errors.Add(r.T_prev_curr, seq.T_world_lidar[scan - 1].Inverse() * seq.T_world_lidar[scan]);
   }
-  map_voxels = static_cast<double>(odometry.local_map().NumVoxels());
+  // The target of the last registration: the local map.
+  row.tgt_pts = static_cast<double>(odometry.local_map().Points().size());
   // Pose of the last scan in the odometry frame (lidar at scan 0) against truth.
   const SE3 truth_end = seq.T_world_lidar.front().Inverse() * seq.T_world_lidar[k - 1];
   const SE3 end_error = truth_end.Inverse() * odometry.T_world_lidar();
@@ -322,7 +323,7 @@ void BM_OdometryStep(benchmark::State& state) {
   SetErrorCounters(state, row.errors);
   state.counters["src_pts"] = registered;
   state.counters["raw_pts"] = seq.points_per_scan;
-  state.counters["map_voxels"] = map_voxels;
+  state.counters["tgt_pts"] = row.tgt_pts;
   state.counters["end_err_pct"] = 100.0 * end_error.translation().norm() / distance;
   row.method = "odometry step";
   row.lidar = kLidarNames[lidar];
