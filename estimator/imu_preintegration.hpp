@@ -9,24 +9,47 @@
 //   p_j = p_i + v_i dt + 1/2 g dt^2 + R_i dp
 // with g = kGravityWorld and dt = t_j - t_i.
 //
-// Discretisation. The raw signal is taken as piecewise linear between samples (trapezoidal
-// rule), which is second-order accurate (global error O(h^2), local O(h^3)):
-//   theta   = (1/2 (w_k + w_k+1) - b_g) h,        dR_k+1 = dR_k Exp(theta)
-//   g_k     = dR_k (a_k - b_a),                   g_k+1 = dR_k+1 (a_k+1 - b_a)
-//   dv_k+1  = dv_k + h/2 (g_k + g_k+1)
-//   dp_k+1  = dp_k + h dv_k + h^2/6 (2 g_k + g_k+1)   (exact for g linear on the step)
-// The bias Jacobians below are the exact derivatives of this recursion, so the first-order bias
-// correction of Forster eq. (44) is exact to first order for this scheme.
+// Discretisation (fourth order). The raw signal (gyro and accelerometer, each axis) is taken
+// as piecewise cubic: on the gap [t_k-1, t_k] between two raw samples it is the Lagrange
+// polynomial through the samples t_k-3 .. t_k. The stencil ends at t_k, so a step never needs a
+// sample after its own end (states are created when a sample arrives); the gap lies inside the
+// stencil's hull, so this is interpolation with error O(h^4). Earlier samples in the buffer
+// given to FromSamples, or the previous samples seen by Integrate, serve as stencil context; when
+// fewer exist (at the very start of a stream) the stencil shrinks to 3 or 2 samples (quadratic,
+// linear: local error O(h^4), O(h^3) on those first steps only). The piecewise signal is
+// continuous and defined by the raw samples alone: an interval ending at an arbitrary stamp and
+// the next one starting there integrate the same signal.
+//
+// A step [t0, t1] (a whole gap, or the part of one from or to an interval end; h = t1 - t0, tm
+// its middle) with bias-corrected rates w(t) = w_raw(t) - b_g, a(t) = a_raw(t) - b_a:
+//   rotation: fourth-order Magnus step on each half [t0, tm], [tm, t1], with the rates w1, w2
+//     at the two Gauss points t + H (1/2 -+ sqrt(3)/6) of a half [t, t + H],
+//       Omega = H/2 (w1 + w2) + sqrt(3)/12 H^2 (w1 x w2),   dR_m = dR_0 Exp(Omega_a),
+//       dR_1 = dR_m Exp(Omega_b)      (local error O(h^5))
+//   g = dR a at t0, tm, t1 (g0, gm, g1), Simpson's rule (local error O(h^5)):
+//       dv_1 = dv_0 + h/6 (g0 + 4 gm + g1)
+//       dp_1 = dp_0 + h dv_0 + h^2/6 (g0 + 2 gm)   (Simpson on the integrand (t1 - t) g(t))
+// The global error against the continuous truth is O(h^4). At 100 Hz on a car-like motion (yaw
+// rate up to 1.1 rad/s, lateral acceleration up to 6 m/s^2) it is at most 5e-10 rad, 2.4e-9 m/s,
+// 1.4e-10 m over 0.1 s and 2.2e-9 rad, 3.2e-8 m/s, 1.4e-8 m over 1 s, where the former
+// trapezoidal scheme (second order) erred 1.1e-6 rad, 4.5e-6 m/s, 2.6e-7 m and 1.4e-5 rad,
+// 1e-4 m/s, 3.8e-5 m (tests/estimator/imu_preintegration_accuracy_test.cpp). Without earlier
+// samples the linear first step dominates: up to 1e-7 rad, 6e-7 m/s, 5.3e-7 m over 1 s.
+// The bias Jacobians below are the exact derivatives of this recursion (the bias shifts the
+// interpolated rates by a constant), so the first-order bias correction of Forster eq. (44)
+// differs from a re-integration with the new bias by O(|db|^2) only.
 //
 // Noise. Error state (rotation, velocity, position), 9x9, rotation as a right perturbation
-// dR_true = dR Exp(d_phi). Each step carries one gyro and one accel white-noise vector with the
-// discrete variance density^2 / h (the mean of continuous white noise over the step, Forster
-// eq. 62); summed over many steps this is the variance of the continuous model. A position
-// random walk (ImuNoise::integration_density) keeps one-step covariances invertible.
+// dR_true = dR Exp(d_phi). Each step carries one gyro and one accel white-noise vector, constant
+// over the step, with the discrete variance density^2 / h (the mean of continuous white noise
+// over the step, Forster eq. 62); it enters the step like a bias change of opposite sign, and
+// is propagated to first order along the same recursion. Summed over many steps this is the
+// variance of the continuous model. A position random walk (ImuNoise::integration_density)
+// keeps one-step covariances invertible.
 //
-// Boundaries at arbitrary stamps: a state or a measurement between two samples is served by a
-// sample linearly interpolated at its stamp (InterpolateImuSample), consistent with the
-// piecewise-linear model; the interval ending there and the next one starting there share it.
+// Boundaries at arbitrary stamps: a state or a measurement between two samples splits the gap
+// it falls in; both parts use that gap's cubic (so an interval ending between samples needs the
+// raw sample after its end, which is kept as look-ahead for a later Integrate()).
 #pragma once
 
 #include <span>
@@ -47,7 +70,8 @@ inline constexpr int kPreintVelocity = 3;
 inline constexpr int kPreintPosition = 6;
 
 // Raw IMU sample at t_ns, linearly interpolated between a (earlier) and b (later).
-// Requires a.header.stamp_ns <= t_ns <= b.header.stamp_ns and a before b.
+// Requires a.header.stamp_ns <= t_ns <= b.header.stamp_ns and a before b. (A helper for
+// callers; the preintegration itself interpolates with the cubic described above.)
 ImuSample InterpolateImuSample(const ImuSample& a, const ImuSample& b, TimeNs t_ns);
 
 class ImuPreintegration {
@@ -55,22 +79,26 @@ class ImuPreintegration {
   ImuPreintegration(const ImuNoise& noise, const ImuBias& bias_lin);
 
   // Integrates the raw samples (stamps strictly increasing) over exactly [t_begin_ns, t_end_ns]:
-  // samples at the two ends are interpolated when no sample falls on them. The samples must
+  // the signal at the two ends is interpolated when no sample falls on them. The samples must
   // cover the interval (first stamp <= t_begin_ns, last stamp >= t_end_ns); InputError otherwise.
+  // Up to two samples before the one at or before t_begin_ns serve as interpolation context.
   static ImuPreintegration FromSamples(std::span<const ImuSample> samples, TimeNs t_begin_ns,
                                        TimeNs t_end_ns, const ImuNoise& noise,
                                        const ImuBias& bias_lin);
 
   // Adds the raw sample (rad/s, m/s^2 specific force, IMU frame) measured at t_ns. The first
   // sample opens the interval; each later one integrates the step from the previous sample.
+  // After FromSamples with an end between two samples, the raw sample after the end is already
+  // known (look-ahead): the next call integrates up to it first, and a sample between the end
+  // and the look-ahead, or a different one at its stamp, is an InputError.
   // InputError if t_ns does not increase or a value is not finite; the state is then unchanged.
   void Integrate(TimeNs t_ns, const Vec3& gyro, const Vec3& accel);
   void Integrate(const ImuSample& sample) {
     Integrate(sample.header.stamp_ns, sample.gyro, sample.accel);
   }
 
-  // The same raw samples integrated again around a new linearisation bias (exact, not first
-  // order). Use when the estimated bias moved far from bias_lin().
+  // The same raw samples (with their context) integrated again around a new linearisation bias
+  // (exact, not first order). Use when the estimated bias moved far from bias_lin().
   ImuPreintegration Reintegrated(const ImuBias& bias_lin) const;
 
   bool empty() const { return samples_.size() < 2; }
@@ -109,14 +137,21 @@ class ImuPreintegration {
     Vec3 gyro = Vec3::Zero();
     Vec3 accel = Vec3::Zero();
   };
+  // Integration nodes: the interval's ends (signal interpolated when between raw samples) and
+  // the raw samples inside.
   const std::vector<RawSample>& samples() const { return samples_; }
 
  private:
-  void IntegrateStep(const RawSample& s0, const RawSample& s1);
+  // Integrates from end_ns() to t_ns, both inside the gap (raw_[j-1], raw_[j]], and appends
+  // the node at t_ns.
+  void Advance(std::size_t j, TimeNs t_ns);
 
   ImuNoise noise_;
   ImuBias bias_lin_;
-  std::vector<RawSample> samples_;
+  std::vector<RawSample> samples_;  // nodes
+  // Raw samples: up to 3 before the interval (context), those inside, and the one at or after
+  // its end.
+  std::vector<RawSample> raw_;
   double dt_ = 0.0;
   Quat delta_q_ = Quat::Identity();
   Vec3 delta_v_ = Vec3::Zero();
