@@ -12,5 +12,6 @@ int RunRecord(const std::vector<std::string>& args);
 int RunEstimate(const std::vector<std::string>& args);
 int RunRun(const std::vector<std::string>& args);
 int RunOdometry(const std::vector<std::string>& args);
+int RunSuite(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

@@ -1,18 +1,19 @@
-// statebench run SCENARIO.yaml --out DIR [--estimators factor_graph,ekf] [--seed N]
-//                [--duration S] [--full-covariance] [--quiet]
+// statebench run SCENARIO.yaml --out DIR [--estimators a,b] [--seed N] [--duration S]
+//                [--full-covariance] [--quiet]
 //
 // Simulator, sensors and estimators in one process, streaming (no disk in between): every
-// measurement of the scenario's sensor setup goes, in arrival order, to every estimator; each
-// estimator's real-time estimate at every IMU sample is written and scored against the truth.
+// measurement of the scenario's sensor setup goes, in arrival order, to every estimator of the
+// scenario's `estimators:` list; each estimator's real-time estimate at every IMU sample is
+// written and scored against the truth.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
@@ -25,17 +26,22 @@
 #include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
 #include "reports/metrics_json.hpp"
+#include "simulator/scenario_sensors.hpp"
 #include "simulator/sensor_run.hpp"
 
 namespace statebench::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr const char* kUsage =
-    "usage: statebench run SCENARIO.yaml --out DIR [--estimators factor_graph,ekf] [--seed N]\n"
+    "usage: statebench run SCENARIO.yaml --out DIR [--estimators NAME,...] [--seed N]\n"
     "                      [--duration S] [--full-covariance] [--quiet]\n"
-    "  Runs the scenario's simulation, its sensor setup and each estimator in one process and\n"
-    "  writes per estimator DIR/<estimator>/{estimate.csv, estimate.tum, diagnostics.json,\n"
-    "  metrics.json}; prints a table of the main metrics.\n";
+    "  Runs the scenario's simulation, its sensor setup and each estimator of its `estimators:`\n"
+    "  list (default: factor_graph and ekf) in one process and writes per estimator\n"
+    "  DIR/<name>/{estimator_config.yaml, estimate.csv, estimate.tum, diagnostics.json,\n"
+    "  metrics.json} and DIR/run.json; prints a table of the main metrics. --estimators picks\n"
+    "  entries of the list by name or by type.\n";
 
 std::vector<std::string> SplitList(const std::string& s) {
   std::vector<std::string> out;
@@ -47,66 +53,161 @@ std::vector<std::string> SplitList(const std::string& s) {
   return out;
 }
 
+// The entries of `all` that --estimators names, by label or by type, in the list's order.
+std::vector<sim::EstimatorSpec> SelectEstimators(const std::vector<sim::EstimatorSpec>& all,
+                                                 const std::string& option,
+                                                 const sim::Scenario& scenario) {
+  const std::vector<std::string> names = SplitList(option);
+  if (names.empty()) throw std::invalid_argument("--estimators: no estimator named");
+  std::set<std::string> chosen;
+  for (const std::string& name : names) {
+    bool found = false;
+    for (const sim::EstimatorSpec& spec : all) {
+      if (spec.label == name) chosen.insert(spec.label), found = true;
+    }
+    if (found) continue;
+    for (const sim::EstimatorSpec& spec : all) {
+      if (spec.type == name) chosen.insert(spec.label), found = true;
+    }
+    if (!found) {
+      std::string labels;
+      for (const sim::EstimatorSpec& spec : all)
+        labels += (labels.empty() ? "" : ", ") + spec.label;
+      throw std::invalid_argument("--estimators: '" + name +
+                                  "' is neither the name nor the type of " + "an estimator of " +
+                                  scenario.file.string() + " (names: " + labels + ")");
+    }
+  }
+  std::vector<sim::EstimatorSpec> selected;
+  for (const sim::EstimatorSpec& spec : all) {
+    if (chosen.count(spec.label)) selected.push_back(spec);
+  }
+  return selected;
+}
+
 struct EstimatorRun {
-  std::string name;
+  sim::EstimatorSpec spec;
   std::unique_ptr<est::Estimator> estimator;
   std::unique_ptr<reports::EstimateWriter> writer;
   std::vector<StateEstimate> estimates;
 };
 
+// Writes the estimator's merged options to DIR/<label>/estimator_config.yaml and builds the
+// estimator from that file, so the run can be repeated from it. An InputError (a bad override,
+// an option that does not fit the sensor setup) names the written file's line and the
+// scenario's entry.
+std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& spec,
+                                                      const sim::Scenario& scenario,
+                                                      const est::EstimatorSensorSetup& setup,
+                                                      const fs::path& dir) {
+  fs::create_directories(dir);
+  const fs::path config = dir / "estimator_config.yaml";
+  std::ofstream(config) << sim::EstimatorConfigText(spec, scenario);
+  est::EstimatorFiles files;
+  files.options = config;
+  files.vehicle = scenario.vehicle_file;
+  try {
+    return est::MakeEstimator(spec.type, setup, files);
+  } catch (const InputError& e) {
+    const std::string from = spec.config.empty() ? "built-in defaults" : spec.config.string();
+    throw InputError(std::string(e.what()) + "\n  in the options of estimator '" + spec.label +
+                     "' (" + spec.source.where + ": field '" + spec.source.field + "'): " + from +
+                     (spec.overrides ? " with the scenario's overrides" : "") + ", merged into " +
+                     config.string());
+  }
+}
+
+// GNSS outages every receiver of the setup has (the scenario's `faults:` give them to all
+// receivers unless they name some), clipped to the run: the windows scored as outages.
+std::vector<reports::OutageWindow> SharedGnssOutages(const sensors::SensorSetup& setup,
+                                                     TimeNs end_ns) {
+  const auto receivers = setup.OfType(sensors::SensorType::kGnss);
+  std::vector<reports::OutageWindow> windows;
+  if (receivers.empty()) return windows;
+  for (const sensors::GnssOutage& o :
+       std::get<sensors::GnssOptions>(receivers.front()->options).outages) {
+    const bool shared = std::all_of(receivers.begin(), receivers.end(), [&o](const auto* r) {
+      const auto& outages = std::get<sensors::GnssOptions>(r->options).outages;
+      return std::any_of(outages.begin(), outages.end(), [&o](const sensors::GnssOutage& p) {
+        return p.start_s == o.start_s && p.end_s == o.end_s;
+      });
+    });
+    const TimeNs begin_ns = FromSeconds(o.start_s);
+    if (!shared || begin_ns >= end_ns) continue;
+    windows.push_back(
+        {begin_ns, std::isfinite(o.end_s) ? std::min(FromSeconds(o.end_s), end_ns) : end_ns});
+  }
+  return windows;
+}
+
+// RMSE and APE of the estimates inside each outage window (the paper's setup-3 figures).
+nlohmann::json DuringOutages(const std::vector<StateEstimate>& estimates,
+                             const std::vector<reports::ReferenceState>& reference,
+                             const std::vector<reports::OutageWindow>& windows,
+                             TimeNs skip_before_ns) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const reports::OutageWindow& w : windows) {
+    std::vector<StateEstimate> inside;
+    for (const StateEstimate& e : estimates) {
+      if (e.state.t_ns >= w.begin_ns && e.state.t_ns <= w.end_ns) inside.push_back(e);
+    }
+    reports::MetricsOptions options;
+    options.skip_before_ns = skip_before_ns;
+    const nlohmann::json m =
+        reports::ToJson(reports::ComputeTrajectoryMetrics(inside, reference, options));
+    out.push_back({{"begin_s", ToSeconds(w.begin_ns)},
+                   {"end_s", ToSeconds(w.end_ns)},
+                   {"compared", m["compared"]},
+                   {"rmse", m["rmse"]},
+                   {"ape", m["ape"]}});
+  }
+  return out;
+}
+
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
-  const auto parsed = ParseCommand({"run", kUsage, {"quiet", "full-covariance"},
-                                    {"out", "estimators", "seed", "duration"}, 1, {"out"}},
+  const auto parsed = ParseCommand({"run",
+                                    kUsage,
+                                    {"quiet", "full-covariance"},
+                                    {"out", "estimators", "seed", "duration"},
+                                    1,
+                                    {"out"}},
                                    argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
-  const std::filesystem::path out_dir = *args->Option("out");
+  const fs::path out_dir = *args->Option("out");
   const bool quiet = args->Flag("quiet");
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
-    const std::vector<std::string> names =
-        SplitList(args->Option("estimators").value_or("factor_graph,ekf"));
-    if (names.empty()) throw std::invalid_argument("--estimators: no estimator named");
-    const std::vector<std::string> known = est::KnownEstimators();
-    for (const std::string& name : names) {
-      if (std::find(known.begin(), known.end(), name) == known.end()) {
-        std::string list;
-        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw std::invalid_argument("--estimators: unknown estimator '" + name + "' (known: " +
-                                    list + ")");
-      }
+    std::vector<sim::EstimatorSpec> specs = sim::ScenarioEstimators(scenario);
+    if (const auto option = args->Option("estimators")) {
+      specs = SelectEstimators(specs, *option, scenario);
     }
-    const char* src = std::getenv("STATEBENCH_SOURCE_DIR");
-    const std::filesystem::path estimators_dir =
-        std::filesystem::path(src ? src : ".") / "scenarios/estimators";
 
-    // Everything that can be checked before the run is: scenario, setup, estimator names and
-    // options, so a typo fails in a second, not after the simulation.
+    // Everything that can be checked before the simulation is: scenario, sensor setup (read
+    // without running SUMO), each estimator's options and whether they fit the setup, so a typo
+    // fails in a second, not after the simulation.
+    const sim::ScenarioSensors sensors = sim::LoadScenarioSensors(scenario);
+    const YamlNode setup_node = YamlNode::LoadString(
+        sensors.setup_yaml, sensors.setup.source.empty() ? "sensor setup" : sensors.setup.source);
+    const est::EstimatorSensorSetup setup = est::ParseEstimatorSensorSetup(setup_node);
+    std::vector<EstimatorRun> runs;
+    for (const sim::EstimatorSpec& spec : specs) {
+      EstimatorRun r;
+      r.spec = spec;
+      r.estimator = MakeScenarioEstimator(spec, scenario, setup, out_dir / spec.label);
+      r.writer = std::make_unique<reports::EstimateWriter>(out_dir / spec.label,
+                                                           args->Flag("full-covariance"));
+      runs.push_back(std::move(r));
+    }
+
     if (!quiet) {
       std::fprintf(stderr, "run: %s: building network, running SUMO, building the world...\n",
                    scenario.name.c_str());
     }
     sim::SensorRun run(scenario, out_dir);
-    const YamlNode setup_node = YamlNode::LoadString(
-        run.sensors().setup_yaml, run.sensors().setup.source.empty() ? "sensor setup"
-                                                                      : run.sensors().setup.source);
-    const est::EstimatorSensorSetup setup = est::ParseEstimatorSensorSetup(setup_node);
-    std::vector<EstimatorRun> runs;
-    for (const std::string& name : names) {
-      est::EstimatorFiles files;
-      files.options = estimators_dir / (name + ".yaml");
-      files.vehicle = scenario.vehicle_file;
-      EstimatorRun r;
-      r.name = name;
-      r.estimator = est::MakeEstimator(name, setup, files);
-      r.writer = std::make_unique<reports::EstimateWriter>(out_dir / name,
-                                                           args->Flag("full-covariance"));
-      runs.push_back(std::move(r));
-    }
-
     const LocalEnuFrame world_frame(scenario.origin);
     std::vector<TruthSample> truth;
     run.SetTruthObserver([&truth](const TruthSample& s) { truth.push_back(s); });
@@ -137,35 +238,51 @@ int RunRun(const std::vector<std::string>& argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
     const auto reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
+    const std::vector<reports::OutageWindow> outages =
+        SharedGnssOutages(run.sensors().setup, run.truth().end_ns());
+    const double distance_m = run.truth().summary().distance_m;
     std::printf("%s (seed %llu, %.0f s, %.0f m, wall %.1f s)\n", scenario.name.c_str(),
-                static_cast<unsigned long long>(scenario.seed), end_s,
-                run.truth().summary().distance_m, wall_s);
-    std::printf("%-14s %8s %8s %8s %9s %9s %8s %8s %9s\n", "estimator", "x [m]", "y [m]",
-                "z [m]", "yaw [rad]", "v_lon[m/s]", "APE [m]", "NEES(6)", "solve p99");
-    nlohmann::json summary = nlohmann::json::object();
+                static_cast<unsigned long long>(scenario.seed), end_s, distance_m, wall_s);
+    std::printf("%-16s %8s %8s %8s %9s %9s %8s %8s %9s\n", "estimator", "x [m]", "y [m]", "z [m]",
+                "yaw [rad]", "v_lon[m/s]", "APE [m]", "NEES(6)", "solve p99");
+    nlohmann::json estimators = nlohmann::json::array();
     for (EstimatorRun& r : runs) {
+      const fs::path dir = out_dir / r.spec.label;
       r.writer->Close();
       const est::EstimatorDiagnostics diagnostics = r.estimator->diagnostics();
       const nlohmann::json diag = DiagnosticsJson(diagnostics);
-      std::ofstream(out_dir / r.name / "diagnostics.json") << diag.dump(2) << "\n";
+      std::ofstream(dir / "diagnostics.json") << diag.dump(2) << "\n";
       reports::MetricsOptions mopt;
       mopt.skip_before_ns = diagnostics.initialized_at_ns;
+      mopt.outages = outages;
       const reports::TrajectoryMetrics metrics =
           reports::ComputeTrajectoryMetrics(r.estimates, reference, mopt);
       nlohmann::json j = reports::ToJson(metrics);
-      j["estimator"] = r.name;
+      j["during_outages"] =
+          DuringOutages(r.estimates, reference, outages, diagnostics.initialized_at_ns);
+      j["estimator"] = r.spec.label;
+      j["type"] = r.spec.type;
       j["scenario"] = scenario.name;
       j["seed"] = scenario.seed;
       j["solve_ms_p99"] = diag["updates"]["solve_ms_p99"];
-      std::ofstream(out_dir / r.name / "metrics.json") << j.dump(2) << "\n";
-      summary[r.name] = j;
-      std::printf("%-14s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.name.c_str(),
+      std::ofstream(dir / "metrics.json") << j.dump(2) << "\n";
+      estimators.push_back({{"label", r.spec.label},
+                            {"type", r.spec.type},
+                            {"config", (fs::path(r.spec.label) / "estimator_config.yaml").string()},
+                            {"metrics", j}});
+      std::printf("%-16s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.spec.label.c_str(),
                   metrics.rmse_x_m, metrics.rmse_y_m, metrics.rmse_z_m, metrics.rmse_yaw_rad,
                   metrics.rmse_v_longitudinal_mps, metrics.ape_translation_m.rmse,
                   metrics.mean_pose_nees, diag["updates"]["solve_ms_p99"].get<double>());
     }
-    summary["wall_time_s"] = wall_s;
-    summary["real_time_factor"] = wall_s > 0 ? end_s / wall_s : 0.0;
+    const nlohmann::json summary = {{"scenario", scenario.name},
+                                    {"file", scenario.file.string()},
+                                    {"seed", scenario.seed},
+                                    {"simulated_s", end_s},
+                                    {"distance_m", distance_m},
+                                    {"wall_time_s", wall_s},
+                                    {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
+                                    {"estimators", estimators}};
     std::ofstream(out_dir / "run.json") << summary.dump(2) << "\n";
     return 0;
   } catch (...) {

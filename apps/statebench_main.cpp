@@ -16,6 +16,8 @@ constexpr const char* kUsage =
     "  estimate LOG --out DIR             run the factor-graph estimator on a recorded log\n"
     "  run SCENARIO.yaml --out DIR        simulation, sensors and estimators in one process, scored\n"
     "  odometry LOG --out DIR             lidar-only odometry of a recorded log (TUM, KITTI error)\n"
+    "  suite [DIR] --out OUT              every scenario of DIR (scenarios/paper) with run, in\n"
+    "                                     parallel; Table I of the paper beside ours\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -36,6 +38,7 @@ int main(int argc, char** argv) {
   if (command == "estimate") return statebench::app::RunEstimate(args);
   if (command == "run") return statebench::app::RunRun(args);
   if (command == "odometry") return statebench::app::RunOdometry(args);
+  if (command == "suite") return statebench::app::RunSuite(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;
