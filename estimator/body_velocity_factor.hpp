@@ -1,0 +1,41 @@
+// Velocity of a point of the vehicle, in a frame fixed to it, at a stamp between states:
+// the speed encoder / body-velocity odometry, the non-holonomic constraint (zero lateral and
+// vertical velocity at the rear axle) and the zero-velocity factor all measure it.
+//
+// The state at the stamp comes from the latest state at or before it through the IMU
+// (propagated_pose.hpp). The point c sits at p_imu_point in the IMU frame and the measurement
+// frame has rotation R_imu_frame:
+//   v_c = R_imu_frame^T ( R_t^T v_t + (w_meas - b_g) x p_imu_point )
+//   r   = S (v_c - v_measured)
+// w_meas is the raw gyro at the stamp; b_g the anchor state's gyro bias. S (3x3) may be
+// rank-deficient: the non-holonomic factor only constrains y and z.
+//
+// Parameter blocks: q (4), v (3), bias (6) of the anchor state; p does not enter. Jacobians by
+// automatic differentiation.
+#pragma once
+
+#include <ceres/cost_function.h>
+
+#include "core/eigen_types.hpp"
+#include "estimator/imu_preintegration.hpp"
+
+namespace statebench::est {
+
+struct BodyVelocityMeasurement {
+  Vec3 v_frame = Vec3::Zero();          // measured velocity of the point, measurement frame
+  Mat3 sqrt_information = Mat3::Zero();  // S, measurement frame
+  Vec3 p_imu_point = Vec3::Zero();
+  Quat q_imu_frame = Quat::Identity();
+  Vec3 gyro_raw = Vec3::Zero();  // rad/s, IMU frame, at the stamp
+};
+
+// The point's velocity in the measurement frame for a given state (no bias correction of the
+// deltas: the state is at the stamp).
+Vec3 PointVelocity(const BodyVelocityMeasurement& m, const Quat& q_world_imu,
+                   const Vec3& v_world, const Vec3& gyro_bias);
+
+// propagation covers [t_anchor, t] (zero steps when t is the anchor's stamp).
+ceres::CostFunction* CreateBodyVelocityFactor(const BodyVelocityMeasurement& m,
+                                              const ImuPreintegration& propagation);
+
+}  // namespace statebench::est

@@ -1,0 +1,94 @@
+// Options of the factors beyond IMU and GNSS: lidar odometry, the kinematic (encoder) factor and
+// the parameter-free vehicle motion constraints (non-holonomic, zero velocity). Part of
+// FactorGraphOptions; YAML keys in docs/estimator-config.md.
+//
+// `use` of a sensor-driven factor:
+//   auto: used when the sensor setup has the sensors it needs (the default: one config serves
+//         every vehicle, plug-and-play);
+//   on:   required: a setup without them is an InputError when the estimator is built;
+//   off:  not used; the measurements are counted as unused in the diagnostics.
+#pragma once
+
+#include <string>
+
+#include "estimator/lidar_odometry.hpp"
+#include "estimator/robust_kernel.hpp"
+
+namespace statebench::est {
+
+enum class FactorUse { kAuto, kOn, kOff };
+
+// "auto", "on"/"true", "off"/"false"; InputError otherwise.
+FactorUse ParseFactorUse(const std::string& value);
+const char* FactorUseName(FactorUse use);
+
+struct LidarFactorOptions {
+  FactorUse use = FactorUse::kAuto;
+  LidarOdometryOptions odometry;
+  // The ICP's Hessian covariance only knows the point noise; scan-to-map registration errors
+  // are correlated and larger. The factor's covariance is the ICP covariance times
+  // covariance_scale, floored per axis at these sigmas (lidar frame, one scan period).
+  double covariance_scale = 10.0;
+  double min_sigma_translation_m = 0.02;
+  double min_sigma_rotation_rad = 0.002;
+  RobustKernel kernel;
+  // A registration whose translation differs from the IMU prediction by more than this
+  // (per scan period) is rejected as an ICP failure.
+  double max_prior_deviation_m = 1.0;
+};
+
+// Kinematic factor (paper): the rear-axle speed V from the speed encoder and the front
+// road-wheel angle delta from the steering encoder integrated between states with the yaw rate
+//   omega = V cos(delta_r) (tan(delta) - tan(delta_r)) / l,   delta_r = -rear_steering_ratio delta
+// (delta_r = 0 for front steering), l the distance along the body x axis between the steering
+// encoder (front axle) and the speed encoder (rear axle) mounts. The planar motion of the
+// rear-axle frame over period_s becomes a relative-pose factor (x, y, yaw; z, roll and pitch
+// free) moved to the IMU through the static transform.
+struct KinematicFactorOptions {
+  FactorUse use = FactorUse::kAuto;
+  double period_s = 0.1;
+  double speed_sigma_mps = 0.02;     // white error of one speed sample
+  double speed_scale_sigma = 0.01;   // wheel radius error, relative
+  double steering_sigma_rad = 0.005; // offset and noise of the steering angle
+  double lateral_sigma_mps = 0.05;   // side slip the model ignores, as a velocity
+  // Tyre slip grows with the lateral acceleration a = V^2 kappa: the rear axle's side slip
+  // angle and the departure of the yaw rate from the kinematic one are taken as
+  // slip_per_lateral_accel * |a| (rad), so sigma_lat += V * that and the steering angle's
+  // sigma is widened by it (about 0.01 rad per m/s^2 covers cars and light vehicles).
+  double slip_per_lateral_accel = 0.01;
+  double vertical_sigma_mps = 0.05;  // motion off the rear axle's x-y plane (suspension, grade)
+  double rear_steering_ratio = 0.0;  // 4-wheel steering: rear angle = -ratio * front angle
+  double max_gap_s = 0.2;            // encoder gap that breaks the integration
+};
+
+// Non-holonomic constraint: a road vehicle does not slide sideways or leave the road, so the
+// velocity of the rear-axle centre has zero lateral and vertical components (loose sigmas for
+// slip and suspension). The point is the speed encoder's mount when the setup has one, else the
+// body-frame origin (the road below the CG; right for a symmetric 4-wheel-steered shuttle).
+// Not added while the kinematic factor is active (it already holds the lateral constraint).
+struct NonHolonomicOptions {
+  bool enabled = true;
+  double rate_hz = 10.0;
+  // sigma_lateral = lateral_sigma_mps + slip_per_lateral_accel * |v| * |v omega_z| (slip in
+  // turns, as KinematicFactorOptions::slip_per_lateral_accel).
+  double slip_per_lateral_accel = 0.01;
+  double lateral_sigma_mps = 0.1;
+  double vertical_sigma_mps = 0.05;
+};
+
+// Zero-velocity factor when the vehicle stands still: the IMU is quiet over window_s (per-axis
+// standard deviations below the thresholds) and the speed encoder, when there is one, reads
+// zero; without an encoder the estimated speed must also be below max_estimated_speed_mps (a
+// quiet IMU alone cannot tell standing from cruising).
+struct ZeroVelocityOptions {
+  bool enabled = true;
+  double rate_hz = 10.0;
+  double window_s = 0.3;
+  double max_gyro_std_radps = 0.005;
+  double max_accel_std_mps2 = 0.06;
+  double max_encoder_speed_mps = 0.005;
+  double max_estimated_speed_mps = 0.3;
+  double sigma_mps = 0.005;
+};
+
+}  // namespace statebench::est
