@@ -24,7 +24,9 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
     sensors[id] = {{"received", c.received},
                    {"accepted", c.accepted},
                    {"rejected", rejected},
-                   {"downweighted", c.downweighted}};
+                   {"downweighted", c.downweighted},
+                   {"events", c.events},
+                   {"last_accepted_s", ToSeconds(c.last_accepted_ns)}};
   }
   std::vector<double> times;
   double iterations = 0.0;

@@ -178,7 +178,115 @@ void ParseDualAntenna(const YamlNode& node, EstimatorSensorSetup* setup) {
   setup->dual_antennas.push_back(pair);
 }
 
+FactorUse ReadUse(const YamlNode& node, FactorUse use) {
+  const auto n = node.Find("enabled");
+  if (!n) return use;
+  try {
+    return ParseFactorUse(n->As<std::string>());
+  } catch (const InputError& e) {
+    n->Fail(e.what());
+  }
+  return use;
+}
+
+bool ReadBool(const YamlNode& node, const char* key, bool value) {
+  const auto n = node.Find(key);
+  if (!n) return value;
+  const std::string v = n->As<std::string>();
+  if (v == "true" || v == "on") return true;
+  if (v == "false" || v == "off") return false;
+  n->Fail("expected true or false, got '" + v + "'");
+  return value;
+}
+
+LidarFactorOptions ParseLidar(const YamlNode& node, LidarFactorOptions o) {
+  node.ExpectMap();
+  node.ExpectOnlyKeys({"enabled", "min_range_m", "max_range_m", "voxel_size_m",
+                       "max_points_per_voxel", "covariance_scale", "min_sigma_translation_m",
+                       "min_sigma_rotation_rad", "robust_kernel", "max_prior_deviation_m"});
+  o.use = ReadUse(node, o.use);
+  Read(node, "min_range_m", &o.odometry.min_range_m, NonNegative);
+  Read(node, "max_range_m", &o.odometry.max_range_m, Positive);
+  Read(node, "voxel_size_m", &o.odometry.voxel_size_m, Positive);
+  ReadInt(node, "max_points_per_voxel", 1, &o.odometry.max_points_per_voxel);
+  Read(node, "covariance_scale", &o.covariance_scale, Positive);
+  Read(node, "min_sigma_translation_m", &o.min_sigma_translation_m, Positive);
+  Read(node, "min_sigma_rotation_rad", &o.min_sigma_rotation_rad, Positive);
+  if (const auto k = node.Find("robust_kernel")) o.kernel = ParseKernel(*k, o.kernel);
+  Read(node, "max_prior_deviation_m", &o.max_prior_deviation_m, Positive);
+  if (o.odometry.max_range_m <= o.odometry.min_range_m) {
+    node["max_range_m"].Fail("must exceed min_range_m");
+  }
+  return o;
+}
+
+KinematicFactorOptions ParseKinematic(const YamlNode& node, KinematicFactorOptions o) {
+  node.ExpectMap();
+  node.ExpectOnlyKeys({"enabled", "period_s", "speed_sigma_mps", "speed_scale_sigma",
+                       "steering_sigma_rad", "lateral_sigma_mps", "slip_per_lateral_accel",
+                       "vertical_sigma_mps",
+                       "rear_steering_ratio", "max_gap_s"});
+  o.use = ReadUse(node, o.use);
+  Read(node, "period_s", &o.period_s, Positive);
+  Read(node, "speed_sigma_mps", &o.speed_sigma_mps, Positive);
+  Read(node, "speed_scale_sigma", &o.speed_scale_sigma, NonNegative);
+  Read(node, "steering_sigma_rad", &o.steering_sigma_rad, Positive);
+  Read(node, "lateral_sigma_mps", &o.lateral_sigma_mps, Positive);
+  Read(node, "slip_per_lateral_accel", &o.slip_per_lateral_accel, NonNegative);
+  Read(node, "vertical_sigma_mps", &o.vertical_sigma_mps, Positive);
+  Read(node, "rear_steering_ratio", &o.rear_steering_ratio, NonNegative);
+  Read(node, "max_gap_s", &o.max_gap_s, Positive);
+  return o;
+}
+
+NonHolonomicOptions ParseNonHolonomic(const YamlNode& node, NonHolonomicOptions o) {
+  node.ExpectMap();
+  node.ExpectOnlyKeys({"enabled", "rate_hz", "slip_per_lateral_accel", "lateral_sigma_mps",
+                       "vertical_sigma_mps"});
+  o.enabled = ReadBool(node, "enabled", o.enabled);
+  Read(node, "slip_per_lateral_accel", &o.slip_per_lateral_accel, NonNegative);
+  Read(node, "rate_hz", &o.rate_hz, Positive);
+  Read(node, "lateral_sigma_mps", &o.lateral_sigma_mps, Positive);
+  Read(node, "vertical_sigma_mps", &o.vertical_sigma_mps, Positive);
+  return o;
+}
+
+ZeroVelocityOptions ParseZeroVelocity(const YamlNode& node, ZeroVelocityOptions o) {
+  node.ExpectMap();
+  node.ExpectOnlyKeys({"enabled", "rate_hz", "window_s", "max_gyro_std_radps",
+                       "max_accel_std_mps2", "max_encoder_speed_mps", "max_estimated_speed_mps",
+                       "sigma_mps"});
+  o.enabled = ReadBool(node, "enabled", o.enabled);
+  Read(node, "rate_hz", &o.rate_hz, Positive);
+  Read(node, "window_s", &o.window_s, Positive);
+  Read(node, "max_gyro_std_radps", &o.max_gyro_std_radps, Positive);
+  Read(node, "max_accel_std_mps2", &o.max_accel_std_mps2, Positive);
+  Read(node, "max_encoder_speed_mps", &o.max_encoder_speed_mps, Positive);
+  Read(node, "max_estimated_speed_mps", &o.max_estimated_speed_mps, Positive);
+  Read(node, "sigma_mps", &o.sigma_mps, Positive);
+  return o;
+}
+
 }  // namespace
+
+FactorUse ParseFactorUse(const std::string& value) {
+  if (value == "auto") return FactorUse::kAuto;
+  if (value == "true" || value == "on") return FactorUse::kOn;
+  if (value == "false" || value == "off") return FactorUse::kOff;
+  throw InputError("expected auto, true or false, got '" + value + "'");
+}
+
+const char* FactorUseName(FactorUse use) {
+  switch (use) {
+    case FactorUse::kAuto:
+      return "auto";
+    case FactorUse::kOn:
+      return "true";
+    case FactorUse::kOff:
+      return "false";
+  }
+  return "?";
+}
 
 const EstimatorSensor* EstimatorSensorSetup::Find(const std::string& id) const {
   for (const auto& s : sensors) {
@@ -324,7 +432,8 @@ FactorGraphOptions ParseFactorGraphOptions(const YamlNode& root) {
   root.ExpectMap();
   root.ExpectOnlyKeys({"name", "description", "window_s", "imu_samples_per_state",
                        "solve_interval_s", "reorder_latency_s", "max_iterations", "num_threads",
-                       "origin", "imu_noise", "initialization", "gnss", "heading"});
+                       "origin", "imu_noise", "initialization", "gnss", "heading", "lidar",
+                       "kinematic", "non_holonomic", "zero_velocity"});
   Read(root, "window_s", &o.window_s, Positive);
   ReadInt(root, "imu_samples_per_state", 1, &o.imu_samples_per_state);
   Read(root, "solve_interval_s", &o.solve_interval_s, Positive);
@@ -344,6 +453,14 @@ FactorGraphOptions ParseFactorGraphOptions(const YamlNode& root) {
   }
   if (const auto n = root.Find("gnss")) o.gnss = ParseGate(*n, o.gnss, "max_sigma_m");
   if (const auto n = root.Find("heading")) o.heading = ParseGate(*n, o.heading, "max_sigma_rad");
+  if (const auto n = root.Find("lidar")) o.lidar = ParseLidar(*n, o.lidar);
+  if (const auto n = root.Find("kinematic")) o.kinematic = ParseKinematic(*n, o.kinematic);
+  if (const auto n = root.Find("non_holonomic")) {
+    o.non_holonomic = ParseNonHolonomic(*n, o.non_holonomic);
+  }
+  if (const auto n = root.Find("zero_velocity")) {
+    o.zero_velocity = ParseZeroVelocity(*n, o.zero_velocity);
+  }
   std::string why;
   if (!o.IsValid(&why)) root.Fail(why);
   return o;

@@ -23,6 +23,7 @@
 #include "core/se3.hpp"
 #include "core/yaml_node.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/motion_factor_options.hpp"
 #include "estimator/robust_kernel.hpp"
 
 namespace statebench::est {
@@ -126,6 +127,10 @@ struct FactorGraphOptions {
   InitializationOptions initialization;
   MeasurementGateOptions gnss;                                       // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
+  LidarFactorOptions lidar;
+  KinematicFactorOptions kinematic;
+  NonHolonomicOptions non_holonomic;
+  ZeroVelocityOptions zero_velocity;
 
   bool IsValid(std::string* why = nullptr) const;
   double ReorderLatency(const EstimatorSensorSetup& setup) const;

@@ -28,6 +28,10 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "too_old";
     case RejectReason::kNotInitialized:
       return "not_initialized";
+    case RejectReason::kDisabled:
+      return "disabled";
+    case RejectReason::kRegistrationFailed:
+      return "registration_failed";
   }
   return "unknown";
 }

@@ -25,6 +25,9 @@ enum class RejectReason {
   kMahalanobisGate,      // innovation beyond the chi-square gate
   kTooOld,               // older than the oldest state the estimator still holds
   kNotInitialized,       // arrived before initialisation and was not needed for it
+  kDisabled,             // the factor using it is switched off in the estimator options
+  kRegistrationFailed,   // lidar scan not registered (empty, too few points, ICP failure);
+                         // the detail is counted in SensorCounters::events
 };
 
 std::string_view RejectReasonName(RejectReason reason);
@@ -36,6 +39,10 @@ struct SensorCounters {
   // Accepted measurements whose whitened residual at the final estimate exceeded the robust
   // kernel's scale (their weight was reduced, not zeroed); counted when they leave the window.
   std::uint64_t downweighted = 0;
+  // Sensor-specific events with their counts, e.g. a lidar's "degenerate" registrations or
+  // "empty scan" rejections, an encoder's "integration restarted" after a gap.
+  std::map<std::string, std::uint64_t> events;
+  TimeNs last_accepted_ns = 0;  // stamp of the newest accepted measurement (0: none)
 
   std::uint64_t TotalRejected() const;
 };
@@ -47,7 +54,8 @@ struct UpdateDiagnostics {
   bool usable = false;  // the solver returned a usable solution
   int num_states = 0;
   int num_marginalized = 0;
-  std::map<std::string, int> factors;  // by type: "prior", "imu", "bias", "gnss", "heading"
+  // by type: "prior", "imu", "bias", "gnss", "heading", "relative_pose", "velocity"
+  std::map<std::string, int> factors;
 };
 
 struct EstimatorDiagnostics {

@@ -12,6 +12,8 @@
 #include "estimator/gnss_stamp_group.hpp"
 #include "estimator/imu_propagation.hpp"
 #include "estimator/imu_rate_output.hpp"
+#include "estimator/kinematic_odometry.hpp"
+#include "estimator/lidar_odometry.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/measurement_gate.hpp"
 #include "estimator/reorder_buffer.hpp"
@@ -39,6 +41,51 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   s.max_iterations = o.max_iterations;
   s.num_threads = o.num_threads;
   return s;
+}
+
+// Which factors the setup and the options give; InputError when an option requires a sensor
+// the setup does not have.
+struct FactorPlan {
+  std::vector<const EstimatorSensor*> lidars;  // used lidars, setup order
+  const EstimatorSensor* speed = nullptr;       // speed encoder (zero velocity, kinematic)
+  const EstimatorSensor* steering = nullptr;
+  bool kinematic = false;
+  double wheelbase_m = 0.0;
+  // Rear-axle frame (the speed encoder's mount, else the body frame) in the IMU frame: the
+  // point and axes of the non-holonomic constraint.
+  SE3 T_imu_axle;
+};
+
+FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptions& o) {
+  FactorPlan plan;
+  for (const EstimatorSensor& s : setup.sensors) {
+    if (s.kind == SensorKind::kLidar) plan.lidars.push_back(&s);
+    if (s.kind == SensorKind::kSpeedEncoder && plan.speed == nullptr) plan.speed = &s;
+    if (s.kind == SensorKind::kSteeringEncoder && plan.steering == nullptr) plan.steering = &s;
+  }
+  const std::string where = "factor graph options for sensor setup '" +
+                            (setup.name.empty() ? setup.source : setup.name) + "': ";
+  if (o.lidar.use == FactorUse::kOn && plan.lidars.empty()) {
+    throw InputError(where + "lidar.enabled is true but the setup has no lidar");
+  }
+  if (o.lidar.use == FactorUse::kOff) plan.lidars.clear();
+  const bool has_encoders = plan.speed != nullptr && plan.steering != nullptr;
+  if (o.kinematic.use == FactorUse::kOn && !has_encoders) {
+    throw InputError(where + "kinematic.enabled is true but the setup lacks a " +
+                     (plan.speed == nullptr ? "speed_encoder" : "steering_encoder"));
+  }
+  plan.kinematic = has_encoders && o.kinematic.use != FactorUse::kOff;
+  if (plan.kinematic) {
+    plan.wheelbase_m =
+        plan.steering->T_body_sensor.translation().x() - plan.speed->T_body_sensor.translation().x();
+    if (plan.wheelbase_m < 0.1) {
+      throw InputError(where + "the kinematic factor needs the steering encoder (front axle) at "
+                       "least 0.1 m ahead of the speed encoder (rear axle) along body x; got " +
+                       std::to_string(plan.wheelbase_m) + " m");
+    }
+  }
+  plan.T_imu_axle = plan.speed != nullptr ? plan.speed->T_imu_sensor : setup.T_body_imu.Inverse();
+  return plan;
 }
 
 // A measurement in the smoother, kept until it leaves the window to check its final residual
@@ -70,8 +117,11 @@ struct FactorGraphEstimator::Impl {
         initializer(o.initialization, noise,
                     setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
         output(noise),
-        latency_ns(FromSeconds(o.ReorderLatency(s))) {
+        latency_ns(FromSeconds(o.ReorderLatency(s))),
+        plan(PlanFactors(s, o)) {
     if (o.origin) frame.emplace(*o.origin);
+    if (plan.kinematic) kinematic.emplace(o.kinematic, plan.wheelbase_m);
+    if (!plan.lidars.empty()) lidar_odometry.emplace(o.lidar.odometry);
   }
 
   EstimatorSensorSetup setup;
@@ -94,6 +144,17 @@ struct FactorGraphEstimator::Impl {
   std::deque<Accepted> accepted;   // in the smoother, oldest first
   std::vector<NavState> smoothed;  // left the window, not taken yet
   GateState gnss_gate, heading_gate;
+
+  FactorPlan plan;
+  std::optional<KinematicOdometry> kinematic;
+  TimeNs last_kinematic_ns = INT64_MIN;  // t2 of the newest kinematic factor
+  std::optional<std::pair<TimeNs, double>> last_speed;
+  std::deque<ImuSample> recent_imu;  // released samples over the zero-velocity window
+  TimeNs next_nhc_ns = INT64_MIN;
+  TimeNs next_zupt_ns = INT64_MIN;
+  std::optional<LidarOdometry> lidar_odometry;
+  std::deque<LidarScan> lidar_waiting;  // released scans whose sweep the IMU has not covered
+  std::optional<TimeNs> last_scan_ns;    // stamp of the newest accepted scan
 
   SensorCounters& Counters(const std::string& id) { return diag.sensors[id]; }
   void Reject(const std::string& id, RejectReason reason) { ++Counters(id).rejected[reason]; }
@@ -161,8 +222,23 @@ struct FactorGraphEstimator::Impl {
     if (const auto* d = std::get_if<DualAntennaHeading>(&m)) {
       return AddOther(*d, setup.FindHeading(h.sensor_id) != nullptr, &CheckDualAntennaHeading);
     }
+    if (const auto* v = std::get_if<VehicleSpeed>(&m)) {
+      return AddOther(*v, IsSensor(h.sensor_id, SensorKind::kSpeedEncoder), &CheckVehicleSpeed);
+    }
+    if (const auto* a = std::get_if<SteeringAngle>(&m)) {
+      return AddOther(*a, IsSensor(h.sensor_id, SensorKind::kSteeringEncoder),
+                      &CheckSteeringAngle);
+    }
+    if (const auto* l = std::get_if<LidarScan>(&m)) {
+      return AddOther(*l, IsSensor(h.sensor_id, SensorKind::kLidar), &CheckLidarScan);
+    }
     Reject(h.sensor_id, setup.Find(h.sensor_id) != nullptr ? RejectReason::kUnsupportedSensor
                                                            : RejectReason::kUnknownSensor);
+  }
+
+  bool IsSensor(const std::string& id, SensorKind kind) const {
+    const EstimatorSensor* s = setup.Find(id);
+    return s != nullptr && s->kind == kind;
   }
 
   // ---- 2. Release in stamp order ----------------------------------------------------------
@@ -184,6 +260,7 @@ struct FactorGraphEstimator::Impl {
       }
     }
     flush();
+    ProcessWaitingScans();
     if (initialized && lagged_ns >= next_solve_ns) Solve();
   }
 
@@ -197,7 +274,12 @@ struct FactorGraphEstimator::Impl {
   void ProcessImu(const ImuSample& s) {
     smoother.AddImu(s);
     lagged_ns = s.header.stamp_ns;
-    if (initialized) return;
+    recent_imu.push_back(s);
+    while (s.header.stamp_ns - recent_imu.front().header.stamp_ns >
+           FromSeconds(options.zero_velocity.window_s)) {
+      recent_imu.pop_front();
+    }
+    if (initialized) return AddMotionConstraints(s);
     initializer.AddImu(s);
     const std::optional<InitialState> init = initializer.TryInitialize();
     if (!init) return;
@@ -239,6 +321,14 @@ struct FactorGraphEstimator::Impl {
   }
 
   void ProcessGroup(const std::vector<Measurement>& group) {
+    // Steering before speed: the speed sample closing an interval uses the steering of its stamp.
+    for (const Measurement& m : group) {
+      if (const auto* a = std::get_if<SteeringAngle>(&m)) ProcessSteering(*a);
+    }
+    for (const Measurement& m : group) {
+      if (const auto* v = std::get_if<VehicleSpeed>(&m)) ProcessSpeed(*v);
+      if (const auto* l = std::get_if<LidarScan>(&m)) ProcessLidar(*l);
+    }
     std::map<std::string, GnssPositionEnu> fixes;        // by antenna id
     std::map<std::string, DualAntennaHeading> headings;  // by heading id
     for (const Measurement& m : group) {
@@ -328,6 +418,238 @@ struct FactorGraphEstimator::Impl {
     accepted.push_back(a);
   }
 
+  // ---- 4b. Encoders: kinematic factor ----------------------------------------------------
+
+  void ProcessSteering(const SteeringAngle& a) {
+    const std::string& id = a.header.sensor_id;
+    if (!kinematic || plan.steering == nullptr || id != plan.steering->id) {
+      return Reject(id, RejectReason::kDisabled);
+    }
+    kinematic->AddSteering(a.header.stamp_ns, a.angle_rad);
+    Accept(id, a.header.stamp_ns);
+  }
+
+  void ProcessSpeed(const VehicleSpeed& v) {
+    const std::string& id = v.header.sensor_id;
+    if (plan.speed == nullptr || id != plan.speed->id) return Reject(id, RejectReason::kDisabled);
+    last_speed = {v.header.stamp_ns, v.speed_mps};
+    if (!kinematic) {
+      // Still used to detect standstill for the zero-velocity factor.
+      if (options.zero_velocity.enabled) return Accept(id, v.header.stamp_ns);
+      return Reject(id, RejectReason::kDisabled);
+    }
+    if (!initialized) {
+      kinematic->AddSpeed(v.header.stamp_ns, v.speed_mps);  // keeps the integration going
+      return Reject(id, RejectReason::kNotInitialized);
+    }
+    const std::optional<KinematicMotion> motion = kinematic->AddSpeed(v.header.stamp_ns,
+                                                                      v.speed_mps);
+    Accept(id, v.header.stamp_ns);
+    if (!motion) return;
+    RelativePoseMeasurement m;
+    m.T_s1_s2 = motion->T_r1_r2;
+    m.T_imu_sensor = plan.T_imu_axle;
+    m.sqrt_information = motion->sqrt_information;
+    RobustKernel kernel;  // Huber at 3 sigma: wheel slip
+    if (smoother.AddRelativePose(motion->t1_ns, motion->t2_ns, m, kernel) == AddResult::kTooOld) {
+      ++Counters(id).events["kinematic_factor_too_old"];
+      return;
+    }
+    last_kinematic_ns = motion->t2_ns;
+    ++Counters(id).events["kinematic_factors"];
+  }
+
+  void Accept(const std::string& id, TimeNs t_ns) {
+    SensorCounters& c = Counters(id);
+    ++c.accepted;
+    c.last_accepted_ns = std::max(c.last_accepted_ns, t_ns);
+  }
+
+  // ---- 4c. Motion constraints ---------------------------------------------------------------
+
+  bool KinematicActive(TimeNs t_ns) const {
+    return kinematic && last_kinematic_ns != INT64_MIN &&
+           t_ns - last_kinematic_ns < FromSeconds(0.5);
+  }
+
+  void AddMotionConstraints(const ImuSample& s) {
+    const TimeNs t = s.header.stamp_ns;
+    const NonHolonomicOptions& nhc = options.non_holonomic;
+    if (nhc.enabled && t >= next_nhc_ns && !KinematicActive(t)) {
+      next_nhc_ns = t + FromSeconds(1.0 / nhc.rate_hz);
+      BodyVelocityMeasurement m;
+      m.p_imu_point = plan.T_imu_axle.translation();
+      m.q_imu_frame = plan.T_imu_axle.rotation();
+      // Side slip grows with the lateral acceleration v * omega.
+      double speed = 0.0;
+      if (const auto p = PredictAt(t)) speed = p->state.v_world.norm();
+      const double yaw_rate = (plan.T_imu_axle.rotation().conjugate() * s.gyro).z();
+      const double lateral_sigma =
+          nhc.lateral_sigma_mps + nhc.slip_per_lateral_accel * speed * speed * std::abs(yaw_rate);
+      m.sqrt_information =
+          Vec3(0.0, 1.0 / lateral_sigma, 1.0 / nhc.vertical_sigma_mps).asDiagonal();
+      if (smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
+        ++Counters(setup.imu_id).events["non_holonomic_factors"];
+      }
+    }
+    const ZeroVelocityOptions& z = options.zero_velocity;
+    if (z.enabled && t >= next_zupt_ns && StandingStill(t)) {
+      next_zupt_ns = t + FromSeconds(1.0 / z.rate_hz);
+      BodyVelocityMeasurement m;
+      m.sqrt_information = Mat3::Identity() / z.sigma_mps;
+      if (smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
+        ++Counters(setup.imu_id).events["zero_velocity_factors"];
+      }
+    }
+  }
+
+  // The IMU is quiet over the window and the speed encoder reads zero (or, without one, the
+  // estimated speed is low).
+  bool StandingStill(TimeNs t_ns) const {
+    const ZeroVelocityOptions& z = options.zero_velocity;
+    if (recent_imu.size() < 3 ||
+        t_ns - recent_imu.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
+      return false;
+    }
+    Vec3 mean_g = Vec3::Zero(), mean_a = Vec3::Zero();
+    for (const ImuSample& s : recent_imu) {
+      mean_g += s.gyro;
+      mean_a += s.accel;
+    }
+    const double n = static_cast<double>(recent_imu.size());
+    mean_g /= n;
+    mean_a /= n;
+    Vec3 var_g = Vec3::Zero(), var_a = Vec3::Zero();
+    for (const ImuSample& s : recent_imu) {
+      var_g += (s.gyro - mean_g).cwiseAbs2();
+      var_a += (s.accel - mean_a).cwiseAbs2();
+    }
+    if ((var_g / (n - 1)).cwiseSqrt().maxCoeff() > z.max_gyro_std_radps) return false;
+    if ((var_a / (n - 1)).cwiseSqrt().maxCoeff() > z.max_accel_std_mps2) return false;
+    if (plan.speed != nullptr) {
+      return last_speed && t_ns - last_speed->first < FromSeconds(0.5) &&
+             std::abs(last_speed->second) <= z.max_encoder_speed_mps;
+    }
+    const auto predicted = PredictAt(t_ns);
+    return predicted && predicted->state.v_world.norm() < z.max_estimated_speed_mps;
+  }
+
+  // ---- 4d. Lidar odometry ------------------------------------------------------------------
+
+  const EstimatorSensor* UsedLidar(const std::string& id) const {
+    for (const EstimatorSensor* l : plan.lidars) {
+      if (l->id == id) return l;
+    }
+    return nullptr;
+  }
+
+  static TimeNs SweepEnd(const LidarScan& scan) {
+    float t_max = 0.f;
+    for (const LidarPoint& p : *scan.points) {
+      if (std::isfinite(p.t)) t_max = std::max(t_max, p.t);
+    }
+    return scan.header.stamp_ns + FromSeconds(std::min(0.5, static_cast<double>(t_max)));
+  }
+
+  void ProcessLidar(const LidarScan& scan) {
+    const std::string& id = scan.header.sensor_id;
+    // One lidar feeds the odometry (the first of the setup); several lidars merged: TODO.
+    if (plan.lidars.empty() || id != plan.lidars.front()->id) {
+      return Reject(id, RejectReason::kDisabled);
+    }
+    if (!initialized) return Reject(id, RejectReason::kNotInitialized);
+    lidar_waiting.push_back(scan);
+    ProcessWaitingScans();
+  }
+
+  void ProcessWaitingScans() {
+    while (!lidar_waiting.empty() && SweepEnd(lidar_waiting.front()) <= newest_imu_ns) {
+      const LidarScan scan = lidar_waiting.front();
+      lidar_waiting.pop_front();
+      RegisterScan(scan);
+    }
+  }
+
+  // The IMU pose at t (window or IMU prediction); nullopt if no longer held.
+  std::optional<SE3> ImuPoseAt(TimeNs t_ns) const {
+    const auto p = PredictAt(t_ns);
+    if (!p) return std::nullopt;
+    return SE3(p->state.q_world_imu, p->state.p_world);
+  }
+
+  void RegisterScan(const LidarScan& scan) {
+    const EstimatorSensor& lidar = *plan.lidars.front();
+    const std::string& id = lidar.id;
+    const SE3& X = lidar.T_imu_sensor;
+    const TimeNs t = scan.header.stamp_ns;
+    // IMU prior: the lidar's motion since the previous accepted scan and within the sweep
+    // (poses every 5 ms, interpolated on SE3).
+    std::optional<LidarMotionPrior> prior;
+    const std::optional<SE3> T_w_i = ImuPoseAt(t);
+    std::optional<SE3> T_w_prev;
+    if (last_scan_ns) T_w_prev = ImuPoseAt(*last_scan_ns);
+    if (T_w_i) {
+      const TimeNs end = SweepEnd(scan);
+      constexpr TimeNs kStep = 5 * kNsPerMillisecond;
+      std::vector<std::pair<double, SE3>> table;
+      const SE3 T_l_w = (*T_w_i * X).Inverse();
+      for (TimeNs tk = t;; tk = std::min(end, tk + kStep)) {
+        const std::optional<SE3> T = ImuPoseAt(tk);
+        if (!T) break;
+        table.emplace_back(ToSeconds(tk - t), T_l_w * *T * X);
+        if (tk == end) break;
+      }
+      if (!table.empty()) {
+        LidarMotionPrior p;
+        p.T_prev_curr = T_w_prev ? (*T_w_prev * X).Inverse() * (*T_w_i * X) : SE3::Identity();
+        p.sweep = [table](double ts) {
+          if (ts <= table.front().first) return table.front().second;
+          for (std::size_t k = 1; k < table.size(); ++k) {
+            if (ts <= table[k].first) {
+              const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
+              return SE3::Interpolate(table[k - 1].second, table[k].second, a);
+            }
+          }
+          return table.back().second;
+        };
+        if (T_w_prev || !last_scan_ns) prior = p;
+      }
+    }
+    const LidarOdometryResult r = lidar_odometry->RegisterScan(scan, prior);
+    if (!r.accepted) {
+      ++Counters(id).events[r.reject_reason.empty() ? "registration failed" : r.reject_reason];
+      return Reject(id, RejectReason::kRegistrationFailed);
+    }
+    if (r.diagnostics.degenerate) ++Counters(id).events["degenerate"];
+    last_scan_ns = t;
+    if (r.first_scan) return Accept(id, t);
+    if (prior && T_w_prev) {
+      const SE3 deviation = prior->T_prev_curr.Inverse() * r.T_prev_curr;
+      if (deviation.translation().norm() > options.lidar.max_prior_deviation_m) {
+        ++Counters(id).events["deviates_from_imu_prior"];
+        return Reject(id, RejectReason::kMahalanobisGate);
+      }
+    }
+    Mat6 covariance = options.lidar.covariance_scale * r.covariance;
+    covariance.diagonal().head<3>().array() +=
+        options.lidar.min_sigma_translation_m * options.lidar.min_sigma_translation_m;
+    covariance.diagonal().tail<3>().array() +=
+        options.lidar.min_sigma_rotation_rad * options.lidar.min_sigma_rotation_rad;
+    RelativePoseMeasurement m;
+    m.T_s1_s2 = r.T_prev_curr;
+    m.T_imu_sensor = X;
+    try {
+      m.sqrt_information = SqrtInformationOfCovariance(covariance, "lidar relative pose");
+    } catch (const InputError&) {
+      return Reject(id, RejectReason::kInvalidCovariance);
+    }
+    if (smoother.AddRelativePose(r.prev_stamp_ns, t, m, options.lidar.kernel) ==
+        AddResult::kTooOld) {
+      return Reject(id, RejectReason::kTooOld);
+    }
+    Accept(id, t);
+  }
+
   // ---- 5. Solve ------------------------------------------------------------------------------
 
   void Solve() {
@@ -349,7 +671,9 @@ struct FactorGraphEstimator::Impl {
                  {"imu", summary.num_imu_factors},
                  {"bias", summary.num_imu_factors},
                  {"gnss", summary.num_gnss_factors},
-                 {"heading", summary.num_heading_factors}};
+                 {"heading", summary.num_heading_factors},
+                 {"relative_pose", summary.num_relative_pose_factors},
+                 {"velocity", summary.num_velocity_factors}};
     diag.updates.push_back(u);
 
     CountDownweighted(left);

@@ -45,4 +45,21 @@ std::optional<RejectReason> CheckDualAntennaHeading(const DualAntennaHeading& he
   return std::nullopt;
 }
 
+std::optional<RejectReason> CheckVehicleSpeed(const VehicleSpeed& speed) {
+  if (!std::isfinite(speed.speed_mps)) return RejectReason::kNonFinite;
+  if (std::abs(speed.speed_mps) > 100.0) return RejectReason::kAbsurdValue;
+  return std::nullopt;
+}
+
+std::optional<RejectReason> CheckSteeringAngle(const SteeringAngle& angle) {
+  if (!std::isfinite(angle.angle_rad)) return RejectReason::kNonFinite;
+  if (std::abs(angle.angle_rad) > 1.2) return RejectReason::kAbsurdValue;
+  return std::nullopt;
+}
+
+std::optional<RejectReason> CheckLidarScan(const LidarScan& scan) {
+  if (scan.points == nullptr) return RejectReason::kAbsurdValue;
+  return std::nullopt;
+}
+
 }  // namespace statebench::est

@@ -24,4 +24,12 @@ std::optional<RejectReason> CheckGnssFix(const GnssFix& fix);
 // A non-positive pitch sigma is allowed and means "yaw only".
 std::optional<RejectReason> CheckDualAntennaHeading(const DualAntennaHeading& heading);
 
+// Non-finite speed; |speed| above 100 m/s (absurd).
+std::optional<RejectReason> CheckVehicleSpeed(const VehicleSpeed& speed);
+// Non-finite angle; |angle| above 1.2 rad (no road wheel steers 70 deg: absurd).
+std::optional<RejectReason> CheckSteeringAngle(const SteeringAngle& angle);
+// A scan without a point buffer (absurd). Empty scans and NaN points are the odometry's to
+// count: they are rejected there with the detail.
+std::optional<RejectReason> CheckLidarScan(const LidarScan& scan);
+
 }  // namespace statebench::est

@@ -47,7 +47,9 @@ bool SlidingWindowOptions::IsValid(std::string* why) const {
 
 namespace {
 
-enum class FactorKind { kPrior, kImu, kBias, kGnss, kHeading };
+constexpr std::ptrdiff_t kPreintegrationContextSamples = 3;
+
+enum class FactorKind { kPrior, kImu, kBias, kGnss, kHeading, kRelativePose, kVelocity };
 
 struct Factor {
   FactorKind kind;
@@ -78,6 +80,19 @@ struct PendingHeading {
   Vec3 p_imu_aux;
 };
 
+struct PendingRelativePose {
+  TimeNs t1_ns;
+  TimeNs t2_ns;
+  RelativePoseMeasurement m;
+  RobustKernel kernel;
+};
+
+struct PendingVelocity {
+  TimeNs t_ns;
+  BodyVelocityMeasurement m;
+  RobustKernel kernel;
+};
+
 }  // namespace
 
 struct SlidingWindowSmoother::Impl {
@@ -98,6 +113,8 @@ struct SlidingWindowSmoother::Impl {
   int samples_since_state = 0;
   std::vector<PendingGnss> pending_gnss;
   std::vector<PendingHeading> pending_headings;
+  std::vector<PendingRelativePose> pending_relative;
+  std::vector<PendingVelocity> pending_velocity;
   std::vector<NavState> marginalized;
   int num_dropped = 0;  // pending measurements found too old, since the last Solve
 
@@ -161,6 +178,48 @@ struct SlidingWindowSmoother::Impl {
               options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
   }
 
+  void AttachRelativePose(Node& a, const PendingRelativePose& r) {
+    // The state after a, when it is not after t2, carries t2 (neighbouring states only).
+    Node* b = nullptr;
+    for (std::size_t k = 0; k + 1 < states.size(); ++k) {
+      if (states[k].get() == &a) {
+        if (states[k + 1]->t_ns <= r.t2_ns) b = states[k + 1].get();
+        break;
+      }
+    }
+    ceres::LossFunction* loss = r.kernel.MakeLossFunction().release();
+    if (b == nullptr) {
+      AddFactor(a, FactorKind::kRelativePose,
+                CreateRelativePoseFactorOneAnchor(r.m, Preintegrate(a, r.t1_ns),
+                                                  Preintegrate(a, r.t2_ns)),
+                loss, a.Blocks());
+      return;
+    }
+    std::vector<double*> blocks = a.Blocks();
+    for (double* block : b->Blocks()) blocks.push_back(block);
+    AddFactor(a, FactorKind::kRelativePose,
+              CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns)),
+              loss, std::move(blocks));
+  }
+
+  // Raw gyro at t_ns, linearly interpolated in the buffer (which covers the window).
+  Vec3 GyroAt(TimeNs t_ns) const {
+    auto it = std::lower_bound(imu.begin(), imu.end(), t_ns, [](const ImuSample& s, TimeNs t) {
+      return s.header.stamp_ns < t;
+    });
+    if (it == imu.end()) return imu.back().gyro;
+    if (it->header.stamp_ns == t_ns || it == imu.begin()) return it->gyro;
+    return InterpolateImuSample(*std::prev(it), *it, t_ns).gyro;
+  }
+
+  void AttachVelocity(Node& a, const PendingVelocity& v) {
+    BodyVelocityMeasurement m = v.m;
+    m.gyro_raw = GyroAt(v.t_ns);
+    AddFactor(a, FactorKind::kVelocity, CreateBodyVelocityFactor(m, Preintegrate(a, v.t_ns)),
+              v.kernel.MakeLossFunction().release(),
+              {a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()});
+  }
+
   // Attaches the pending measurements the IMU has reached (or drops those that fell out).
   void FlushPending() {
     const TimeNs newest = imu.back().header.stamp_ns;
@@ -178,7 +237,19 @@ struct SlidingWindowSmoother::Impl {
     };
     flush(pending_gnss, [&](Node& a, const PendingGnss& m) { AttachGnss(a, m); });
     flush(pending_headings, [&](Node& a, const PendingHeading& m) { AttachHeading(a, m); });
+    flush(pending_velocity, [&](Node& a, const PendingVelocity& m) { AttachVelocity(a, m); });
+    // A relative pose waits for t2 but is anchored at t1.
+    std::erase_if(pending_relative, [&](const PendingRelativePose& r) {
+      if (r.t2_ns > newest) return false;
+      if (Node* anchor = Anchor(r.t1_ns)) {
+        AttachRelativePose(*anchor, r);
+      } else {
+        ++num_dropped;
+      }
+      return true;
+    });
   }
+  static TimeNs StampOf(const PendingVelocity& m) { return m.t_ns; }
   static TimeNs StampOf(const PendingGnss& m) { return m.fix.header.stamp_ns; }
   static TimeNs StampOf(const PendingHeading& m) { return m.heading.header.stamp_ns; }
 
@@ -205,7 +276,14 @@ struct SlidingWindowSmoother::Impl {
     marginalized.push_back(old.State());
     states.pop_front();
     const TimeNs t_oldest = states.front()->t_ns;
-    std::erase_if(imu, [&](const ImuSample& s) { return s.header.stamp_ns < t_oldest; });
+    // Keep the samples before the oldest state that preintegration from it uses as context
+    // for its cubic interpolant (ImuPreintegration::FromSamples).
+    auto first_kept = std::lower_bound(
+        imu.begin(), imu.end(), t_oldest,
+        [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
+    first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples,
+                                          first_kept - imu.begin());
+    imu.erase(imu.begin(), first_kept);
   }
 
   Mat15 NewestInformation() const {
@@ -314,6 +392,42 @@ AddResult SlidingWindowSmoother::AddDualAntenna(const DualAntennaHeading& headin
   return AddResult::kAdded;
 }
 
+AddResult SlidingWindowSmoother::AddRelativePose(TimeNs t1_ns, TimeNs t2_ns,
+                                                 const RelativePoseMeasurement& m,
+                                                 const RobustKernel& kernel) {
+  Impl& s = *impl_;
+  if (!initialized()) throw InputError("sliding window smoother: relative pose before initialization");
+  if (t2_ns <= t1_ns) throw InputError("relative pose: t2 must be after t1");
+  if (!m.sqrt_information.allFinite()) throw InputError("relative pose: non-finite information");
+  const PendingRelativePose pending{t1_ns, t2_ns, m, kernel};
+  Node* anchor = s.Anchor(t1_ns);
+  if (anchor == nullptr) return AddResult::kTooOld;
+  if (t2_ns > s.imu.back().header.stamp_ns) {
+    s.pending_relative.push_back(pending);
+    return AddResult::kPending;
+  }
+  s.AttachRelativePose(*anchor, pending);
+  return AddResult::kAdded;
+}
+
+AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
+                                                 const RobustKernel& kernel) {
+  Impl& s = *impl_;
+  if (!initialized()) throw InputError("sliding window smoother: velocity before initialization");
+  if (!m.sqrt_information.allFinite() || !m.v_frame.allFinite() || !m.p_imu_point.allFinite()) {
+    throw InputError("body velocity: non-finite value");
+  }
+  const PendingVelocity pending{t_ns, m, kernel};
+  if (t_ns > s.imu.back().header.stamp_ns) {
+    s.pending_velocity.push_back(pending);
+    return AddResult::kPending;
+  }
+  Node* anchor = s.Anchor(t_ns);
+  if (anchor == nullptr) return AddResult::kTooOld;
+  s.AttachVelocity(*anchor, pending);
+  return AddResult::kAdded;
+}
+
 SmootherSolveSummary SlidingWindowSmoother::Solve() {
   Impl& m = *impl_;
   SmootherSolveSummary out;
@@ -335,6 +449,8 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
       out.num_imu_factors += f.kind == FactorKind::kImu;
       out.num_gnss_factors += f.kind == FactorKind::kGnss;
       out.num_heading_factors += f.kind == FactorKind::kHeading;
+      out.num_relative_pose_factors += f.kind == FactorKind::kRelativePose;
+      out.num_velocity_factors += f.kind == FactorKind::kVelocity;
     }
   }
   const TimeNs window_ns = FromSeconds(m.options.window_s);

@@ -25,8 +25,10 @@
 #include "core/eigen_types.hpp"
 #include "core/measurements.hpp"
 #include "core/state.hpp"
+#include "estimator/body_velocity_factor.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/relative_pose_factor.hpp"
 #include "estimator/robust_kernel.hpp"
 
 namespace statebench::est {
@@ -60,6 +62,8 @@ struct SmootherSolveSummary {
   int num_imu_factors = 0;
   int num_gnss_factors = 0;
   int num_heading_factors = 0;
+  int num_relative_pose_factors = 0;
+  int num_velocity_factors = 0;
   int num_dropped_pending = 0;  // waiting measurements the window passed before the IMU came
 };
 
@@ -87,6 +91,19 @@ class SlidingWindowSmoother {
   // measurement DualAntennaFactor refuses.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,
                            const Vec3& p_imu_aux);
+
+  // Relative motion of a sensor frame between t1 < t2 (lidar odometry, kinematic factor). The
+  // pose at t1 is carried from the latest state at or before t1 (anchor a); the pose at t2 from
+  // the state after a when it is at or before t2 (else from a too), so the factor links
+  // neighbouring states only and marginalises like the IMU factor. Pending while t2 is newer
+  // than the newest IMU sample; kTooOld if t1 is before the window. `kernel` may be kNone.
+  // InputError if t2 <= t1 or the information is not finite.
+  AddResult AddRelativePose(TimeNs t1_ns, TimeNs t2_ns, const RelativePoseMeasurement& m,
+                            const RobustKernel& kernel);
+  // Velocity of a vehicle point at t_ns (speed encoder, non-holonomic, zero velocity); the raw
+  // gyro at the stamp (m.gyro_raw) is filled in from the IMU buffer. Same pending rules.
+  AddResult AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
+                            const RobustKernel& kernel);
 
   // Optimises the window, then marginalises the states that left it.
   SmootherSolveSummary Solve();
