@@ -83,10 +83,10 @@ class OdometryRun {
       : odometry_(options), per_scan_(out_dir / "scans.csv") {
     ids_ = mounts;
     if (mounts.size() > 1) merger_.emplace(std::move(mounts));
-    per_scan_
-        << "t_s,accepted,reason,points_in,non_finite,points_registered,iterations,"
-           "correspondences,degenerate,degenerate_directions,threshold_m,residual_sigma_m,"
-           "register_ms,info_min,info_max,weak_x,weak_y,weak_z,weak_roll,weak_pitch,weak_yaw\n";
+    per_scan_ << "t_s,accepted,reason,points_in,non_finite,points_registered,iterations,"
+                 "correspondences,degenerate,degenerate_directions,threshold_m,residual_sigma_m,"
+                 "register_ms,info_min,info_max,weak_x,weak_y,weak_z,weak_roll,weak_"
+                 "pitch,weak_yaw\n";
   }
 
   // Returns the stamp of the last scan registered, if any.

@@ -138,7 +138,7 @@ void FillCovariance(const NormalEquations& eq, const IcpOptions& options, IcpRes
   Vec6 variance;
   int degenerate = 0;
   for (int k = 0; k < 6; ++k) {
-    if (lambda(k) <= options.degeneracy_ratio * lambda(5)) {
+    if (!(lambda(k) >= options.min_information)) {
       variance(k) = std::max(options.degenerate_variance, lambda(k) > 0 ? s2 / lambda(k) : 0.0);
       ++degenerate;
     } else {

@@ -62,8 +62,9 @@ struct LidarOdometryDiagnostics {
   std::size_t correspondences = 0;
   bool degenerate = false;
   int degenerate_directions = 0;
-  // Information of the registration (icp_registration.hpp): eigenvalues of the scaled Hessian,
-  // ascending, and the eigenvector of the smallest, (rho, L phi) in the lidar frame.
+  // Information of the registration (icp_registration.hpp): eigenvalues of the scaled Hessian
+  // (point-equivalents), ascending, and the eigenvector of the smallest, (rho, L phi) in the
+  // lidar frame.
   Vec6 information_eigenvalues = Vec6::Zero();
   Vec6 weakest_direction = Vec6::Zero();
   double threshold_m = 0.0;
