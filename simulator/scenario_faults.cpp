@@ -69,18 +69,58 @@ std::optional<sensors::SkyViewOptions> ParseUrbanCanyon(const YamlNode& node) {
   return sky;
 }
 
+std::vector<SensorOutage> ParseSensorOutages(const YamlNode& list,
+                                             const sensors::SensorSetup& setup) {
+  list.ExpectSequence();
+  std::vector<SensorOutage> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YamlNode entry = list.At(i);
+    entry.ExpectOnlyKeys({"sensors", "start_s", "end_s"});
+    SensorOutage outage;
+    const YamlNode ids = entry["sensors"];
+    ids.ExpectSequence();
+    if (ids.size() == 0) ids.Fail("name at least one sensor");
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const YamlNode id_node = ids.At(k);
+      const std::string id = id_node.As<std::string>();
+      bool found = false;
+      for (const SensorConfig& c : setup.sensors) found = found || c.spec.id == id;
+      if (!found) id_node.Fail("no sensor '" + id + "' in setup '" + setup.name + "'");
+      outage.sensors.push_back(id);
+    }
+    outage.start_s = entry.Get<double>("start_s");
+    if (outage.start_s < 0.0) entry["start_s"].Fail("must be >= 0");
+    outage.end_s = entry.Get<double>("end_s", std::numeric_limits<double>::infinity());
+    if (!(outage.end_s > outage.start_s)) entry["end_s"].Fail("must be after start_s");
+    out.push_back(outage);
+  }
+  return out;
+}
+
 }  // namespace
+
+bool SensorOutage::Covers(const std::string& sensor_id, TimeNs stamp_ns) const {
+  const double t = ToSeconds(stamp_ns);
+  if (t < start_s || t >= end_s) return false;
+  for (const std::string& s : sensors) {
+    if (s == sensor_id) return true;
+  }
+  return false;
+}
 
 ScenarioFaults ApplyFaults(const YamlNode& faults, sensors::SensorSetup* setup) {
   ScenarioFaults out;
   if (faults.IsNull()) return out;
   faults.ExpectMap();
-  faults.ExpectOnlyKeys({"gnss_outages", "urban_canyon"});
+  faults.ExpectOnlyKeys({"gnss_outages", "urban_canyon", "sensor_outages"});
   if (const auto outages = faults.Find("gnss_outages"); outages && !outages->IsNull()) {
     ApplyGnssOutages(*outages, setup);
   }
   if (const auto canyon = faults.Find("urban_canyon"); canyon && !canyon->IsNull()) {
     out.urban_canyon = ParseUrbanCanyon(*canyon);
+  }
+  if (const auto outages = faults.Find("sensor_outages"); outages && !outages->IsNull()) {
+    out.sensor_outages = ParseSensorOutages(*outages, *setup);
   }
   return out;
 }

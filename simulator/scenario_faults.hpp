@@ -7,6 +7,8 @@
 //       - {start_s: 60.0}                               # every GNSS receiver, to the end
 //       - {sensors: [gnss_front], start_s: 20.0, end_s: 35.0}
 //     urban_canyon: true         # or {elevation_mask_deg: 10, blocking_range_m: 1000}
+//     sensor_outages:            # any sensor of the setup falls silent in [start, end)
+//       - {sensors: [lidar_roof, gnss_front], start_s: 100.0, end_s: 160.0}
 //
 // `urban_canyon` lets the world's buildings, trees and terrain block the satellites of a synthetic
 // constellation, which degrades the GNSS fixes (fixed -> float -> single -> none) by the visible
@@ -15,6 +17,10 @@
 #pragma once
 
 #include <optional>
+#include <string>
+#include <vector>
+
+#include "core/time.hpp"
 
 #include "core/yaml_node.hpp"
 #include "sensors/sensor_setup.hpp"
@@ -22,8 +28,18 @@
 
 namespace statebench::sim {
 
+// Measurements of the named sensors stamped in [start, end) are not delivered.
+struct SensorOutage {
+  std::vector<std::string> sensors;
+  double start_s = 0.0;
+  double end_s = 0.0;  // +inf: to the end
+
+  bool Covers(const std::string& sensor_id, TimeNs stamp_ns) const;
+};
+
 struct ScenarioFaults {
   std::optional<sensors::SkyViewOptions> urban_canyon;  // set: satellites blocked by the world
+  std::vector<SensorOutage> sensor_outages;
 };
 
 // Applies `faults` to `setup` and returns the faults that are not setup options. Throws

@@ -1,5 +1,6 @@
 #include "simulator/sensor_run.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "sensors/lidar_sensor_model.hpp"
@@ -59,7 +60,18 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
 
 SensorRun::~SensorRun() = default;
 
-std::optional<Measurement> SensorRun::Next() { return source_->Next(); }
+std::optional<Measurement> SensorRun::Next() {
+  const std::vector<SensorOutage>& outages = sensors_.faults.sensor_outages;
+  while (true) {
+    std::optional<Measurement> m = source_->Next();
+    if (!m || outages.empty()) return m;
+    const MeasurementHeader& h = HeaderOf(*m);
+    const bool silent = std::any_of(outages.begin(), outages.end(), [&](const SensorOutage& o) {
+      return o.Covers(h.sensor_id, h.stamp_ns);
+    });
+    if (!silent) return m;
+  }
+}
 
 std::optional<TruthSample> SensorRun::NextTruth() {
   TruthSample sample;

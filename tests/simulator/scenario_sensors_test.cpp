@@ -68,13 +68,21 @@ TEST(ScenarioSensors, FindsSetupsLikeVehiclesAndAppliesFaults) {
                                    "  gnss_outages:\n"
                                    "    - {start_s: 10.0, end_s: 20.0}\n"
                                    "    - {sensors: [ant_b], start_s: 30.0}\n"
-                                   "  urban_canyon: {elevation_mask_deg: 15}\n"));
+                                   "  urban_canyon: {elevation_mask_deg: 15}\n"
+                                   "  sensor_outages:\n"
+                                   "    - {sensors: [speed, ant_a], start_s: 5.0, end_s: 8.0}\n"));
   EXPECT_EQ(local.setup.name, "local_setup");
   ASSERT_EQ(Gnss(local, "ant_a").outages.size(), 1u);
   ASSERT_EQ(Gnss(local, "ant_b").outages.size(), 2u);
   EXPECT_EQ(Gnss(local, "ant_b").outages[1].start_s, 30.0);
   ASSERT_TRUE(local.faults.urban_canyon.has_value());
   EXPECT_EQ(local.faults.urban_canyon->elevation_mask_deg, 15.0);
+  ASSERT_EQ(local.faults.sensor_outages.size(), 1u);
+  const SensorOutage& silent = local.faults.sensor_outages[0];
+  EXPECT_TRUE(silent.Covers("speed", FromSeconds(5.0)));
+  EXPECT_TRUE(silent.Covers("ant_a", FromSeconds(7.99)));
+  EXPECT_FALSE(silent.Covers("speed", FromSeconds(8.0)));  // [start, end)
+  EXPECT_FALSE(silent.Covers("ant_b", FromSeconds(6.0)));
 
   // Stock setups through scenarios/setups (STATEBENCH_SOURCE_DIR or the working folder).
   const ScenarioSensors stock = LoadScenarioSensors(
@@ -116,6 +124,10 @@ TEST(ScenarioSensors, ErrorsNameFileLineAndField) {
   EXPECT_NE(order.find("field 'faults.gnss_outages[0].end_s': must be after start_s"),
             std::string::npos)
       << order;
+  EXPECT_NE(error("sensors: setup3_shuttle\nfaults:\n  sensor_outages:\n"
+                  "    - {sensors: [lidar_top], start_s: 1}\n")
+                .find("field 'faults.sensor_outages[0].sensors[0]': no sensor 'lidar_top'"),
+            std::string::npos);
   EXPECT_NE(
       error("sensors: setup3_shuttle\nfaults: {gnss_outage: {start_s: 5}}\n").find("gnss_outage"),
       std::string::npos);
