@@ -8,6 +8,7 @@
 #include <span>
 
 #include "core/error.hpp"
+#include "estimator/encoder_scale_calibration.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/gnss_stamp_group.hpp"
 #include "estimator/imu_propagation.hpp"
@@ -120,7 +121,10 @@ struct FactorGraphEstimator::Impl {
         latency_ns(FromSeconds(o.ReorderLatency(s))),
         plan(PlanFactors(s, o)) {
     if (o.origin) frame.emplace(*o.origin);
-    if (plan.kinematic) kinematic.emplace(o.kinematic, plan.wheelbase_m);
+    if (plan.kinematic) {
+      kinematic.emplace(o.kinematic, plan.wheelbase_m);
+      encoder_scale.emplace(plan.T_imu_axle);
+    }
     if (!plan.lidars.empty()) lidar_odometry.emplace(o.lidar.odometry);
   }
 
@@ -147,6 +151,7 @@ struct FactorGraphEstimator::Impl {
 
   FactorPlan plan;
   std::optional<KinematicOdometry> kinematic;
+  std::optional<EncoderScaleCalibration> encoder_scale;
   TimeNs last_kinematic_ns = INT64_MIN;  // t2 of the newest kinematic factor
   std::optional<std::pair<TimeNs, double>> last_speed;
   std::deque<ImuSample> recent_imu;  // released samples over the zero-velocity window
@@ -433,6 +438,7 @@ struct FactorGraphEstimator::Impl {
     const std::string& id = v.header.sensor_id;
     if (plan.speed == nullptr || id != plan.speed->id) return Reject(id, RejectReason::kDisabled);
     last_speed = {v.header.stamp_ns, v.speed_mps};
+    if (encoder_scale) encoder_scale->AddSpeed(v.header.stamp_ns, v.speed_mps);
     if (!kinematic) {
       // Still used to detect standstill for the zero-velocity factor.
       if (options.zero_velocity.enabled) return Accept(id, v.header.stamp_ns);
@@ -677,6 +683,10 @@ struct FactorGraphEstimator::Impl {
     diag.updates.push_back(u);
 
     CountDownweighted(left);
+    if (encoder_scale && kinematic) {
+      encoder_scale->AddSmoothedStates(left);
+      if (const auto scale = encoder_scale->scale()) kinematic->set_speed_scale(*scale);
+    }
     smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&
         newest.v_world.allFinite() && covariance.allFinite()) {

@@ -57,8 +57,9 @@ double KinematicOdometry::SteeringOver(TimeNs t0_ns, TimeNs t1_ns) const {
   return has_before ? before : 0.0;
 }
 
-std::optional<KinematicMotion> KinematicOdometry::AddSpeed(TimeNs t_ns, double speed_mps) {
-  if (!std::isfinite(speed_mps)) return std::nullopt;
+std::optional<KinematicMotion> KinematicOdometry::AddSpeed(TimeNs t_ns, double raw_speed_mps) {
+  if (!std::isfinite(raw_speed_mps)) return std::nullopt;
+  const double speed_mps = speed_scale_ * raw_speed_mps;
   if (!last_speed_ns_ || t_ns <= *last_speed_ns_ ||
       ToSeconds(t_ns - *last_speed_ns_) > options_.max_gap_s) {
     // (Re)start: this sample only opens the next interval.

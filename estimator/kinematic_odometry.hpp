@@ -51,6 +51,9 @@ class KinematicOdometry {
   void Reset();
 
   double wheelbase_m() const { return wheelbase_m_; }
+  // Multiplies every later speed sample (wheel-radius calibration, EncoderScaleCalibration).
+  void set_speed_scale(double scale) { speed_scale_ = scale; }
+  double speed_scale() const { return speed_scale_; }
 
  private:
   double SteeringOver(TimeNs t0_ns, TimeNs t1_ns) const;
@@ -66,6 +69,7 @@ class KinematicOdometry {
   Vec3 J_scale_ = Vec3::Zero();
   Vec3 J_steer_ = Vec3::Zero();
   double distance_m_ = 0.0;
+  double speed_scale_ = 1.0;
 };
 
 }  // namespace statebench::est
