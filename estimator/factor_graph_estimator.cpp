@@ -119,7 +119,7 @@ struct FactorGraphEstimator::Impl {
                     setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
         output(noise),
         latency_ns(FromSeconds(o.ReorderLatency(s))),
-        plan(PlanFactors(s, o)) {
+        plan(PlanFactors(setup, o)) {
     if (o.origin) frame.emplace(*o.origin);
     if (plan.kinematic) {
       kinematic.emplace(o.kinematic, plan.wheelbase_m);
@@ -623,7 +623,9 @@ struct FactorGraphEstimator::Impl {
     }
     const LidarOdometryResult r = lidar_odometry->RegisterScan(scan, prior);
     if (!r.accepted) {
-      ++Counters(id).events[r.reject_reason.empty() ? "registration failed" : r.reject_reason];
+      // The category of the reason (its text before the details in parentheses).
+      const std::string reason = r.reject_reason.substr(0, r.reject_reason.find(" ("));
+      ++Counters(id).events[reason.empty() ? "registration failed" : reason];
       return Reject(id, RejectReason::kRegistrationFailed);
     }
     if (r.diagnostics.degenerate) ++Counters(id).events["degenerate"];

@@ -1,0 +1,181 @@
+// The factor graph with a lidar and encoders in the setup: the lidar odometry's relative-pose
+// factors enter the graph, a lidar that stops sending or sends unusable scans leaves the
+// estimator running on the other sensors with the reason in its diagnostics, and options that
+// require a sensor the setup lacks fail when the estimator is built.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "core/error.hpp"
+#include "estimator/factor_graph_estimator.hpp"
+#include "estimator_scenario.hpp"
+#include "synthetic_lidar_scene.hpp"
+
+namespace statebench::est {
+namespace {
+
+using testing::MakeScenario;
+using testing::MakeSetup;
+using testing::Scenario;
+using testing::ScenarioOptions;
+
+const SE3 kImuLidar(Quat::Identity(), Vec3(-0.2, 0.0, 1.4));
+const std::string kLidarEntry =
+    "  - {type: lidar, id: lidar_roof, rate_hz: 10, latency_s: 0.02, "
+    "T_body_sensor: {translation: [-0.2, 0, 1.4]}, model: hesai_xt32}\n";
+
+// Walls and poles around the test's figure eight (|x| < 40, |y| < 20), never on it.
+testing::Scene Surroundings() {
+  testing::Scene s;
+  s.boxes.push_back({Vec3(-60, 28, 0), Vec3(60, 30, 8)});
+  s.boxes.push_back({Vec3(-60, -30, 0), Vec3(60, -28, 6)});
+  s.boxes.push_back({Vec3(50, -30, 0), Vec3(52, 30, 10)});
+  s.boxes.push_back({Vec3(-52, -30, 0), Vec3(-50, 30, 7)});
+  for (double x : {-30.0, -25.0, -20.0, 20.0, 25.0, 30.0}) {
+    for (double y : {-4.0, 0.0, 4.0}) s.poles.push_back({x, y + 0.3 * x / 10.0, 0.3, 4.0});
+  }
+  s.boxes.push_back({Vec3(-3, -45, 0), Vec3(3, -35, 5)});
+  return s;
+}
+
+// The stream with a scan every 0.1 s over [from_s, to_s) inserted at its arrival time.
+std::vector<Measurement> WithScans(const Scenario& sc, double from_s, double to_s) {
+  const testing::Scene scene = Surroundings();
+  testing::ScannerModel model;
+  model.columns = 360;
+  std::vector<Measurement> stream = sc.stream;
+  for (double t = from_s; t < to_s - 1e-9; t += 0.1) {
+    LidarScan scan;
+    scan.header.sensor_id = "lidar_roof";
+    scan.header.stamp_ns = FromSeconds(t);
+    scan.header.arrival_ns = FromSeconds(t + 0.12);
+    const auto pose = [&](double dt) {
+      const NavState x = sc.Truth(FromSeconds(t + dt));
+      return SE3(x.q_world_imu, x.p_world) * kImuLidar;
+    };
+    scan.points = std::make_shared<std::vector<LidarPoint>>(testing::Scan(scene, pose, model));
+    const auto at = std::find_if(stream.begin(), stream.end(), [&](const Measurement& m) {
+      return HeaderOf(m).arrival_ns > scan.header.arrival_ns;
+    });
+    stream.insert(at, scan);
+  }
+  return stream;
+}
+
+FactorGraphOptions Options() {
+  FactorGraphOptions o;
+  o.origin = testing::kTestOrigin;
+  return o;
+}
+
+struct Outcome {
+  double max_position_error = 0.0;
+  int non_finite = 0;
+  int relative_pose_updates = 0;  // solves with lidar factors in the window
+  EstimatorDiagnostics diagnostics;
+};
+
+Outcome RunWithLidar(const Scenario& sc, const std::vector<Measurement>& stream, double eval_from_s) {
+  FactorGraphEstimator estimator(MakeSetup(sc.options, kLidarEntry), Options());
+  Outcome out;
+  for (const Measurement& m : stream) {
+    estimator.Add(m);
+    if (!std::holds_alternative<ImuSample>(m)) continue;
+    const TimeNs t = HeaderOf(m).stamp_ns;
+    const auto e = estimator.StateAt(t);
+    if (!e) continue;
+    if (!e->state.p_world.allFinite() || !e->covariance.allFinite()) ++out.non_finite;
+    if (ToSeconds(t) >= eval_from_s) {
+      out.max_position_error =
+          std::max(out.max_position_error, (e->state.p_world - sc.Truth(t).p_world).norm());
+    }
+  }
+  out.diagnostics = estimator.diagnostics();
+  for (const UpdateDiagnostics& u : out.diagnostics.updates) {
+    const auto it = u.factors.find("relative_pose");
+    if (it != u.factors.end() && it->second > 0) ++out.relative_pose_updates;
+  }
+  return out;
+}
+
+// Lidar scans from 4 s to 10 s, then nothing: the lidar factors are used while it sends, the
+// estimator carries on with IMU and GNSS afterwards, and the diagnostics say when the lidar
+// was last accepted.
+TEST(FactorGraphLidar, LidarThatStopsSendingLeavesTheOtherSensorsRunning) {
+  ScenarioOptions so;
+  so.duration_s = 16.0;
+  const Scenario sc = MakeScenario(so);
+  const Outcome r = RunWithLidar(sc, WithScans(sc, 4.0, 10.0), 5.0);
+  const SensorCounters& lidar = r.diagnostics.sensors.at("lidar_roof");
+  std::printf("lidar: %llu received, %llu accepted, last accepted %.1f s; %d solves with lidar "
+              "factors; max position error %.2e m\n",
+              static_cast<unsigned long long>(lidar.received),
+              static_cast<unsigned long long>(lidar.accepted), ToSeconds(lidar.last_accepted_ns),
+              r.relative_pose_updates, r.max_position_error);
+  EXPECT_EQ(r.non_finite, 0);
+  EXPECT_EQ(lidar.received, 60u);
+  EXPECT_GE(lidar.accepted, 50u);
+  EXPECT_NEAR(ToSeconds(lidar.last_accepted_ns), 9.9, 1e-6);
+  EXPECT_GT(r.relative_pose_updates, 40);
+  // Noise-free IMU and GNSS: the lidar factors agree with them, before and after it stops.
+  EXPECT_LT(r.max_position_error, 0.02);
+  // The IMU-rate output went on to the end of the stream.
+  EXPECT_GT(r.diagnostics.updates.back().t_ns, FromSeconds(15.0));
+}
+
+// Empty scans, scans of NaN points and scans with too few points: rejected with the reason,
+// nothing else disturbed.
+TEST(FactorGraphLidar, UnusableScansAreRejectedWithTheirReason) {
+  ScenarioOptions so;
+  so.duration_s = 12.0;
+  const Scenario sc = MakeScenario(so);
+  std::vector<Measurement> stream = WithScans(sc, 4.0, 6.0);
+  const auto add = [&](double t, std::vector<LidarPoint> points) {
+    LidarScan scan;
+    scan.header.sensor_id = "lidar_roof";
+    scan.header.stamp_ns = FromSeconds(t);
+    scan.header.arrival_ns = FromSeconds(t + 0.12);
+    scan.points = std::make_shared<std::vector<LidarPoint>>(std::move(points));
+    const auto at = std::find_if(stream.begin(), stream.end(), [&](const Measurement& m) {
+      return HeaderOf(m).arrival_ns > scan.header.arrival_ns;
+    });
+    stream.insert(at, scan);
+  };
+  add(7.0, {});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  add(7.1, std::vector<LidarPoint>(5000, LidarPoint{nan, 1.f, 2.f, 1.f, 0.01f, 0}));
+  add(7.2, std::vector<LidarPoint>(20, LidarPoint{5.f, 1.f, 0.f, 1.f, 0.01f, 0}));
+  const Outcome r = RunWithLidar(sc, stream, 5.0);
+  const SensorCounters& lidar = r.diagnostics.sensors.at("lidar_roof");
+  EXPECT_EQ(r.non_finite, 0);
+  EXPECT_EQ(lidar.rejected.at(RejectReason::kRegistrationFailed), 3u);
+  std::string events;
+  for (const auto& [name, n] : lidar.events) events += name + "=" + std::to_string(n) + " ";
+  std::printf("lidar events: %s\n", events.c_str());
+  EXPECT_EQ(lidar.events.at("empty scan"), 1u);
+  EXPECT_EQ(lidar.events.at("too few points"), 2u);
+  EXPECT_LT(r.max_position_error, 0.02);
+}
+
+TEST(FactorGraphLidar, OptionsRequiringAMissingSensorFailAtConstruction) {
+  ScenarioOptions so;
+  FactorGraphOptions o = Options();
+  o.lidar.use = FactorUse::kOn;
+  EXPECT_THROW(FactorGraphEstimator(MakeSetup(so), o), InputError);
+  o.lidar.use = FactorUse::kAuto;
+  o.kinematic.use = FactorUse::kOn;
+  try {
+    FactorGraphEstimator e(MakeSetup(so, kLidarEntry), o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("kinematic.enabled is true but the setup lacks a "
+                                         "speed_encoder"),
+              std::string::npos)
+        << e.what();
+  }
+  o.kinematic.use = FactorUse::kAuto;  // auto: no encoders, no kinematic factor, no error
+  EXPECT_NO_THROW(FactorGraphEstimator(MakeSetup(so, kLidarEntry), o));
+}
+
+}  // namespace
+}  // namespace statebench::est
