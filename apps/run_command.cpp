@@ -61,22 +61,24 @@ std::vector<sim::EstimatorSpec> SelectEstimators(const std::vector<sim::Estimato
   if (names.empty()) throw std::invalid_argument("--estimators: no estimator named");
   std::set<std::string> chosen;
   for (const std::string& name : names) {
-    bool found = false;
+    std::vector<std::string> matches;
     for (const sim::EstimatorSpec& spec : all) {
-      if (spec.label == name) chosen.insert(spec.label), found = true;
+      if (spec.label == name) matches.push_back(spec.label);
     }
-    if (found) continue;
+    const bool by_label = !matches.empty();
     for (const sim::EstimatorSpec& spec : all) {
-      if (spec.type == name) chosen.insert(spec.label), found = true;
+      if (!by_label && spec.type == name) matches.push_back(spec.label);
     }
-    if (!found) {
+    if (matches.empty()) {
       std::string labels;
-      for (const sim::EstimatorSpec& spec : all)
+      for (const sim::EstimatorSpec& spec : all) {
         labels += (labels.empty() ? "" : ", ") + spec.label;
-      throw std::invalid_argument("--estimators: '" + name +
-                                  "' is neither the name nor the type of " + "an estimator of " +
-                                  scenario.file.string() + " (names: " + labels + ")");
+      }
+      throw std::invalid_argument("--estimators: '" + name + "' is neither the name nor the " +
+                                  "type of an estimator of " + scenario.file.string() +
+                                  " (names: " + labels + ")");
     }
+    chosen.insert(matches.begin(), matches.end());
   }
   std::vector<sim::EstimatorSpec> selected;
   for (const sim::EstimatorSpec& spec : all) {
