@@ -44,7 +44,8 @@ constexpr const char* kUsage =
     "  simulation and its sensors run in-process (--duration, --seed override the scenario);\n"
     "  LOG: a recorded log (--setup overrides its setup). --lidar all (default) merges every\n"
     "  lidar of the setup per scan period into the first lidar's frame; --lidar ID uses one.\n"
-    "  Writes odometry.tum (that frame in the world, started at the truth's pose), scans.csv\n"
+    "  Writes odometry.tum (that frame in the world, started at the truth's pose), truth.tum\n"
+    "  (the truth of that frame at the same stamps), scans.csv\n"
     "  (per-scan diagnostics), diagnostics.json and, with truth, metrics.json (KITTI relative\n"
     "  error over 100..800 m, APE, odometry/true distance). --icp point-to-point runs plain\n"
     "  point-to-point ICP (KISS-ICP's metric) for comparison.\n";
@@ -293,8 +294,14 @@ int RunOdometry(const std::vector<std::string>& argv) {
     const std::vector<StateEstimate> estimates = ToWorld(odometry.poses(), reference);
     {
       std::ofstream tum(out_dir / "odometry.tum");
+      std::ofstream truth_tum;
+      if (!reference.empty()) truth_tum.open(out_dir / "truth.tum");
       for (const StateEstimate& e : estimates) {
         WriteTum(tum, e.state.t_ns, SE3(e.state.q_world_imu, e.state.p_world));
+        if (reference.empty()) continue;
+        if (const auto ref = reports::InterpolateReference(reference, e.state.t_ns)) {
+          WriteTum(truth_tum, e.state.t_ns, ref->T_world_frame);
+        }
       }
     }
     const std::size_t scans = odometry.scans, accepted = odometry.accepted;
