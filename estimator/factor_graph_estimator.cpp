@@ -8,6 +8,7 @@
 #include <span>
 
 #include "core/error.hpp"
+#include "core/so3.hpp"
 #include "estimator/encoder_scale_calibration.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/gnss_stamp_group.hpp"
@@ -286,8 +287,9 @@ struct FactorGraphEstimator::Impl {
     }
     if (initialized) return AddMotionConstraints(s);
     initializer.AddImu(s);
-    const std::optional<InitialState> init = initializer.TryInitialize();
+    std::optional<InitialState> init = initializer.TryInitialize();
     if (!init) return;
+    VelocityFromEncoder(s, &*init);
     const NavState& x = init->state;
     if (!x.q_world_imu.coeffs().allFinite() || !x.p_world.allFinite() || !x.v_world.allFinite() ||
         !init->covariance.allFinite()) {
@@ -305,6 +307,34 @@ struct FactorGraphEstimator::Impl {
     output.SetAnchor(PropagatedState{init->state, init->covariance});
     next_solve_ns = init->state.t_ns + FromSeconds(options.solve_interval_s);
     gnss_gate.last_accepted_ns = heading_gate.last_accepted_ns = init->state.t_ns;
+  }
+
+  // A moving initialisation takes the velocity from GNSS fixes differenced over a second or
+  // so (metres per second of error with single-point fixes). With a speed encoder the velocity
+  // in the IMU frame is known to centimetres per second: v_imu = R_imu_axle (V, 0, 0) -
+  // (w - b_g) x p_imu_axle, and v_world = R v_imu. Its world-frame covariance follows the
+  // orientation's: dv = -R [v_imu]x dtheta (right perturbation) plus the encoder's own error.
+  void VelocityFromEncoder(const ImuSample& s, InitialState* init) const {
+    if (plan.speed == nullptr || !last_speed ||
+        std::abs(ToSeconds(s.header.stamp_ns - last_speed->first)) > 0.1) {
+      return;
+    }
+    constexpr double kEncoderSigmaMps = 0.1;  // before the radius is calibrated, and slip
+    const NavState& x = init->state;
+    const Vec3 omega = s.gyro - x.gyro_bias;
+    const Vec3 v_imu = plan.T_imu_axle.rotation() * Vec3(last_speed->second, 0.0, 0.0) -
+                       omega.cross(plan.T_imu_axle.translation());
+    const Mat3 R = x.q_world_imu.toRotationMatrix();
+    const Mat3 J = -R * so3::Hat<double>(v_imu);
+    Mat15& P = init->covariance;
+    const Mat3 P_rot = P.block<3, 3>(0, 0);
+    P.block<3, 15>(6, 0).setZero();
+    P.block<15, 3>(0, 6).setZero();
+    P.block<3, 3>(6, 6) = J * P_rot * J.transpose() + kEncoderSigmaMps * kEncoderSigmaMps * Mat3::Identity();
+    P.block<3, 3>(6, 0) = J * P_rot;
+    P.block<3, 3>(0, 6) = P.block<3, 3>(6, 0).transpose();
+    init->state.v_world = R * v_imu;
+    init->method += " + encoder speed";
   }
 
   // ---- 4. GNSS and headings ----------------------------------------------------------------
