@@ -16,6 +16,7 @@
 #include "estimator/imu_rate_output.hpp"
 #include "estimator/kinematic_odometry.hpp"
 #include "estimator/lidar_odometry.hpp"
+#include "estimator/lidar_scan_merger.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/measurement_gate.hpp"
 #include "estimator/reorder_buffer.hpp"
@@ -127,6 +128,17 @@ struct FactorGraphEstimator::Impl {
       encoder_scale.emplace(plan.T_imu_axle);
     }
     if (!plan.lidars.empty()) lidar_odometry.emplace(o.lidar.odometry);
+    if (plan.lidars.size() > 1) {
+      // Several lidars: one merged scan per period in the first lidar's frame.
+      std::vector<LidarMount> mounts;
+      const SE3 T_ref_imu = plan.lidars.front()->T_imu_sensor.Inverse();
+      for (const EstimatorSensor* l : plan.lidars) {
+        mounts.push_back({l->id, T_ref_imu * l->T_imu_sensor});
+      }
+      LidarScanMergerOptions merge;
+      merge.merged_id = plan.lidars.front()->id;
+      lidar_merger.emplace(std::move(mounts), merge);
+    }
   }
 
   EstimatorSensorSetup setup;
@@ -159,6 +171,7 @@ struct FactorGraphEstimator::Impl {
   TimeNs next_nhc_ns = INT64_MIN;
   TimeNs next_zupt_ns = INT64_MIN;
   std::optional<LidarOdometry> lidar_odometry;
+  std::optional<LidarScanMerger> lidar_merger;  // with more than one lidar
   std::deque<LidarScan> lidar_waiting;  // released scans whose sweep the IMU has not covered
   std::optional<TimeNs> last_scan_ns;    // stamp of the newest accepted scan
 
@@ -589,12 +602,15 @@ struct FactorGraphEstimator::Impl {
 
   void ProcessLidar(const LidarScan& scan) {
     const std::string& id = scan.header.sensor_id;
-    // One lidar feeds the odometry (the first of the setup); several lidars merged: TODO.
-    if (plan.lidars.empty() || id != plan.lidars.front()->id) {
-      return Reject(id, RejectReason::kDisabled);
-    }
+    if (UsedLidar(id) == nullptr) return Reject(id, RejectReason::kDisabled);
     if (!initialized) return Reject(id, RejectReason::kNotInitialized);
-    lidar_waiting.push_back(scan);
+    if (!lidar_merger) {
+      lidar_waiting.push_back(scan);
+    } else {
+      // Several lidars: counted here, registered as one merged scan (under the first id).
+      Accept(id, scan.header.stamp_ns);
+      for (LidarScan& merged : lidar_merger->Add(scan)) lidar_waiting.push_back(std::move(merged));
+    }
     ProcessWaitingScans();
   }
 
@@ -660,7 +676,11 @@ struct FactorGraphEstimator::Impl {
     }
     if (r.diagnostics.degenerate) ++Counters(id).events["degenerate"];
     last_scan_ns = t;
-    if (r.first_scan) return Accept(id, t);
+    const bool merged = lidar_merger.has_value();  // the input scans were counted already
+    if (r.first_scan) {
+      ++Counters(id).events["registered"];
+      return merged ? void() : Accept(id, t);
+    }
     if (prior && T_w_prev) {
       const SE3 deviation = prior->T_prev_curr.Inverse() * r.T_prev_curr;
       if (deviation.translation().norm() > options.lidar.max_prior_deviation_m) {
@@ -685,7 +705,8 @@ struct FactorGraphEstimator::Impl {
         AddResult::kTooOld) {
       return Reject(id, RejectReason::kTooOld);
     }
-    Accept(id, t);
+    ++Counters(id).events["registered"];
+    if (!merged) Accept(id, t);
   }
 
   // ---- 5. Solve ------------------------------------------------------------------------------

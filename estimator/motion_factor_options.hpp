@@ -29,8 +29,8 @@ struct LidarFactorOptions {
   // are correlated and larger. The factor's covariance is the ICP covariance times
   // covariance_scale, floored per axis at these sigmas (lidar frame, one scan period).
   double covariance_scale = 10.0;
-  double min_sigma_translation_m = 0.02;
-  double min_sigma_rotation_rad = 0.002;
+  double min_sigma_translation_m = 0.005;
+  double min_sigma_rotation_rad = 0.0005;
   RobustKernel kernel;
   // A registration whose translation differs from the IMU prediction by more than this
   // (per scan period) is rejected as an ICP failure.
