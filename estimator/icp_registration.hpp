@@ -30,7 +30,7 @@
 // 291 of 2400 setup-2 XT32 scans along z where 44-202 point-equivalents constrained it, while
 // the synthetic corridor's axis sat at 0.0026 times the largest. It must stay above what
 // sampling artifacts fake: in the synthetic corridor, neighbourhoods where one wall column
-// meets one ground ring look like planes across the axis and give it 12.8 point-equivalents.
+// meets one ground ring look like planes across the axis and give it 10-14 point-equivalents.
 #pragma once
 
 #include <cstddef>
@@ -52,7 +52,12 @@ struct IcpOptions {
   std::size_t min_correspondences = 50;
   double surface_radius_m = 1.0;
   double wide_surface_radius_m = 3.0;  // second look when the first neighbourhood is one ring
-  double thin_ratio = 0.005;  // local eigenvalue below this times the largest: thin direction
+  // Local eigenvalue below thin_ratio times the largest: thin direction. A plane patch of radius
+  // r spreads r^2 / 4 in-plane, so 0.02 accepts a thickness (noise plus the map's accumulated
+  // misalignment) up to sigma = r sqrt(0.02) / 2 = 7 cm at r = 1 m. With 0.005 (3.5 cm) the
+  // shuttle's two-VLP-16 map ground, blurred by a little pitch drift over a crest, read as a
+  // blob and was dropped: z rested on 6-10 point-equivalents and the height drifted 2 m in 90 s.
+  double thin_ratio = 0.02;
   double degeneracy_length_m = 5.0;
   double min_information = 15.0;  // point-equivalents per direction, see above
   double degenerate_variance = 100.0;

@@ -141,7 +141,7 @@ TEST(LidarOdometry, CorridorRelativeMotionIsFlaggedDegenerate) {
     r = odometry.RegisterScan(MakeScan(FromSeconds(t0), points));
     ASSERT_TRUE(r.accepted) << r.reject_reason;
   }
-  // Along the axis 12.8 point-equivalents of information remain: neighbourhoods where one wall
+  // Along the axis 13.9 point-equivalents of information remain: neighbourhoods where one wall
   // column meets one ground ring look like planes across the corridor (icp_registration.hpp).
   std::printf("corridor: information eigenvalues %s\n",
               ::testing::PrintToString(r.diagnostics.information_eigenvalues.transpose()).c_str());
