@@ -7,6 +7,7 @@
 // written to OUT/table1.md and OUT/table1.json, with OUT/suite.json holding each scenario's
 // status, wall time and real-time factor. Exit code 1 when a scenario failed.
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -73,6 +74,7 @@ struct Job {
   pid_t pid = -1;
   Clock::time_point start;
   double wall_s = 0.0;
+  double cpu_s = 0.0;  // user + system time of the run process (what an idle machine needs)
   int exit_code = -1;  // -1: not finished
   std::string failure;
   std::optional<nlohmann::json> run;
@@ -179,8 +181,11 @@ std::string Elapsed(const Clock::time_point& start) {
   return text;
 }
 
-void Finish(Job* job, int status) {
+double Seconds(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec; }
+
+void Finish(Job* job, int status, const rusage& usage) {
   job->wall_s = std::chrono::duration<double>(Clock::now() - job->start).count();
+  job->cpu_s = Seconds(usage.ru_utime) + Seconds(usage.ru_stime);
   job->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   if (job->exit_code == 0) {
     try {
@@ -216,11 +221,12 @@ void RunAll(std::vector<Job>* jobs, std::size_t jobs_at_once,
       }
     }
     int status = 0;
-    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    rusage usage{};
+    const pid_t pid = wait4(-1, &status, WNOHANG, &usage);
     if (pid > 0) {
       for (Job& job : *jobs) {
         if (job.pid != pid || job.exit_code >= 0) continue;
-        Finish(&job, status);
+        Finish(&job, status, usage);
         --running;
         ++done;
         if (quiet) break;
@@ -262,12 +268,16 @@ nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
                         {"status", job.exit_code == 0 ? "ok" : "failed"},
                         {"exit_code", job.exit_code},
                         {"wall_time_s", job.wall_s},
+                        {"cpu_time_s", job.cpu_s},
                         {"log", (job.dir / "run.log").string()}};
     if (job.run) {
       j["simulated_s"] = job.run->value("simulated_s", 0.0);
       j["distance_m"] = job.run->value("distance_m", 0.0);
       j["run_wall_time_s"] = job.run->value("wall_time_s", 0.0);
       j["real_time_factor"] = job.run->value("real_time_factor", 0.0);
+      // Simulated seconds per CPU second: the real-time factor of a machine with a free core.
+      j["real_time_factor_cpu"] =
+          job.cpu_s > 0 ? job.run->value("simulated_s", 0.0) / job.cpu_s : 0.0;
     } else {
       j["failure"] = job.failure;
     }
@@ -324,8 +334,12 @@ int RunSuite(const std::vector<std::string>& argv) {
                 static_cast<unsigned long long>(jobs_at_once));
     for (const Job& job : jobs) {
       if (job.run) {
-        std::printf("  %-22s ok      %7.1f s wall, %.2fx real time\n", job.name.c_str(), job.wall_s,
-                    job.run->value("real_time_factor", 0.0));
+        const double simulated_s = job.run->value("simulated_s", 0.0);
+        std::printf(
+            "  %-22s ok  %5.0f s simulated in %6.1f s wall (%.2fx real time), %6.1f s CPU "
+            "(%.2fx)\n",
+            job.name.c_str(), simulated_s, job.wall_s, job.run->value("real_time_factor", 0.0),
+            job.cpu_s, job.cpu_s > 0 ? simulated_s / job.cpu_s : 0.0);
       } else {
         ++failed;
         std::printf("  %-22s FAILED  %s\n", job.name.c_str(), job.failure.c_str());
