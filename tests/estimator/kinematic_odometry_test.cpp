@@ -80,8 +80,10 @@ TEST(KinematicOdometry, CovarianceGrowsWithDistanceAndStaysFiniteAtStandstill) {
     EXPECT_TRUE(k->sqrt_information.allFinite());
   }
   EXPECT_GT(m->covariance_xy_yaw(0, 0), 10.0 * s->covariance_xy_yaw(0, 0));
-  // Along-track sigma at 10 m/s over 0.1 s: wheel-radius 1 % of 1 m plus white speed error.
-  EXPECT_NEAR(std::sqrt(m->covariance_xy_yaw(0, 0)), std::hypot(0.01, 0.02 * 0.02 * std::sqrt(5.0)),
+  // Along-track sigma at 10 m/s over 0.1 s: the per-period scale error of 1 m plus the white
+  // speed error of five 20 ms samples.
+  EXPECT_NEAR(std::sqrt(m->covariance_xy_yaw(0, 0)),
+              std::hypot(o.speed_scale_sigma * 1.0, o.speed_sigma_mps * 0.02 * std::sqrt(5.0)),
               1e-3);
   // Nothing about roll and pitch: those rows of the information are zero.
   const Mat6 info = m->sqrt_information.transpose() * m->sqrt_information;
