@@ -39,6 +39,15 @@ void KinematicOdometry::AddSteering(TimeNs t_ns, double angle_rad) {
   if (steering_.size() > kSteeringKept) steering_.pop_front();
 }
 
+void KinematicOdometry::StartPeriod(TimeNs t_ns) {
+  period_start_ns_ = t_ns;
+  state_.setZero();
+  P_.setZero();
+  J_scale_.setZero();
+  J_steer_.setZero();
+  distance_m_ = 0.0;
+}
+
 double KinematicOdometry::SteeringOver(TimeNs t0_ns, TimeNs t1_ns) const {
   double sum = 0.0;
   int n = 0;
@@ -64,12 +73,7 @@ std::optional<KinematicMotion> KinematicOdometry::AddSpeed(TimeNs t_ns, double r
       ToSeconds(t_ns - *last_speed_ns_) > options_.max_gap_s) {
     // (Re)start: this sample only opens the next interval.
     last_speed_ns_ = t_ns;
-    period_start_ns_ = t_ns;
-    state_.setZero();
-    P_.setZero();
-    J_scale_.setZero();
-    J_steer_.setZero();
-    distance_m_ = 0.0;
+    StartPeriod(t_ns);
     return std::nullopt;
   }
   const double dt = ToSeconds(t_ns - *last_speed_ns_);
@@ -116,12 +120,7 @@ std::optional<KinematicMotion> KinematicOdometry::AddSpeed(TimeNs t_ns, double r
 
   if (ToSeconds(t_ns - *period_start_ns_) + 1e-9 < options_.period_s) return std::nullopt;
   KinematicMotion out = Emit(t_ns);
-  period_start_ns_ = t_ns;
-  state_.setZero();
-  P_.setZero();
-  J_scale_.setZero();
-  J_steer_.setZero();
-  distance_m_ = 0.0;
+  StartPeriod(t_ns);
   return out;
 }
 

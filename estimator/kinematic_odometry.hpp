@@ -57,6 +57,7 @@ class KinematicOdometry {
 
  private:
   double SteeringOver(TimeNs t0_ns, TimeNs t1_ns) const;
+  void StartPeriod(TimeNs t_ns);  // zero motion and uncertainty from t_ns on
   KinematicMotion Emit(TimeNs t_ns);
 
   KinematicFactorOptions options_;

@@ -17,17 +17,7 @@ namespace {
 using testing::HelixTrajectory;
 
 std::vector<ImuSample> Samples(const ImuBias& bias) {
-  const HelixTrajectory helix;
-  std::vector<ImuSample> samples;
-  for (int k = 0; k <= 300; ++k) {
-    ImuSample s;
-    s.header.stamp_ns = k * 10 * kNsPerMillisecond;
-    const double t = ToSeconds(s.header.stamp_ns);
-    s.gyro = helix.Gyro(t) + bias.gyro;
-    s.accel = helix.Accel(t) + bias.accel;
-    samples.push_back(s);
-  }
-  return samples;
+  return testing::HelixSamples(bias.gyro, bias.accel);
 }
 
 std::vector<double> Vec(const auto& a) { return std::vector<double>(a.begin(), a.end()); }

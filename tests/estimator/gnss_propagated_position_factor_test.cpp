@@ -21,17 +21,7 @@ const Vec3 kLever(0.8, 0.3, 1.5);
 
 // 100 Hz samples of the helix over [0, 3] s, with a constant sensor bias added.
 std::vector<ImuSample> BiasedSamples(const ImuBias& bias) {
-  const HelixTrajectory helix;
-  std::vector<ImuSample> samples;
-  for (int k = 0; k <= 300; ++k) {
-    ImuSample s;
-    s.header.stamp_ns = k * 10 * kNsPerMillisecond;
-    const double t = ToSeconds(s.header.stamp_ns);
-    s.gyro = helix.Gyro(t) + bias.gyro;
-    s.accel = helix.Accel(t) + bias.accel;
-    samples.push_back(s);
-  }
-  return samples;
+  return testing::HelixSamples(bias.gyro, bias.accel);
 }
 
 std::vector<std::vector<double>> Blocks(const NavState& s) {

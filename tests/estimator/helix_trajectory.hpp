@@ -12,8 +12,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/eigen_types.hpp"
+#include "core/measurements.hpp"
 #include "core/so3.hpp"
 #include "core/state.hpp"
 #include "core/time.hpp"
@@ -73,5 +75,21 @@ class HelixTrajectory {
     return s;
   }
 };
+
+// 100 Hz samples of the helix over [0, 3] s, with a constant sensor bias (gyro, accel) added.
+inline std::vector<ImuSample> HelixSamples(const Vec3& gyro_bias = Vec3::Zero(),
+                                           const Vec3& accel_bias = Vec3::Zero()) {
+  const HelixTrajectory helix;
+  std::vector<ImuSample> samples;
+  for (int k = 0; k <= 300; ++k) {
+    ImuSample s;
+    s.header.stamp_ns = k * 10 * kNsPerMillisecond;
+    const double t = ToSeconds(s.header.stamp_ns);
+    s.gyro = helix.Gyro(t) + gyro_bias;
+    s.accel = helix.Accel(t) + accel_bias;
+    samples.push_back(s);
+  }
+  return samples;
+}
 
 }  // namespace statebench::est::testing
