@@ -19,6 +19,7 @@
 #include "core/so3.hpp"
 #include "core/state.hpp"
 #include "core/time.hpp"
+#include "trajectory_imu.hpp"
 
 namespace statebench::est::testing {
 
@@ -61,19 +62,9 @@ class HelixTrajectory {
     return Vec3(d.x() - sp * d.z(), cr * d.y() + sr * cp * d.z(), -sr * d.y() + cr * cp * d.z());
   }
   // Specific force in the IMU frame: R^T (a - g).
-  Vec3 Accel(double t) const {
-    return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld);
-  }
+  Vec3 Accel(double t) const { return SpecificForce(*this, t); }
 
-  NavState State(TimeNs t_ns) const {
-    const double t = ToSeconds(t_ns);
-    NavState s;
-    s.t_ns = t_ns;
-    s.q_world_imu = Orientation(t);
-    s.p_world = Position(t);
-    s.v_world = Velocity(t);
-    return s;
-  }
+  NavState State(TimeNs t_ns) const { return StateOf(*this, t_ns); }
 };
 
 // 100 Hz samples of the helix over [0, 3] s, with a constant sensor bias (gyro, accel) added.
@@ -82,12 +73,7 @@ inline std::vector<ImuSample> HelixSamples(const Vec3& gyro_bias = Vec3::Zero(),
   const HelixTrajectory helix;
   std::vector<ImuSample> samples;
   for (int k = 0; k <= 300; ++k) {
-    ImuSample s;
-    s.header.stamp_ns = k * 10 * kNsPerMillisecond;
-    const double t = ToSeconds(s.header.stamp_ns);
-    s.gyro = helix.Gyro(t) + gyro_bias;
-    s.accel = helix.Accel(t) + accel_bias;
-    samples.push_back(s);
+    samples.push_back(SampleOf(helix, k * 10 * kNsPerMillisecond, gyro_bias, accel_bias));
   }
   return samples;
 }

@@ -12,6 +12,7 @@
 #include "core/so3.hpp"
 #include "core/state.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "trajectory_imu.hpp"
 
 namespace statebench::est {
 namespace {
@@ -64,56 +65,20 @@ class CarTrajectory {
     const double sp = std::sin(e.y()), cp = std::cos(e.y());
     return Vec3(d.x() - sp * d.z(), cr * d.y() + sr * cp * d.z(), -sr * d.y() + cr * cp * d.z());
   }
-  Vec3 Accel(double t) const {
-    return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld);
-  }
-  NavState State(TimeNs t_ns) const {
-    const double t = ToSeconds(t_ns);
-    NavState s;
-    s.t_ns = t_ns;
-    s.q_world_imu = Orientation(t);
-    s.p_world = Position(t);
-    s.v_world = Velocity(t);
-    return s;
-  }
+  Vec3 Accel(double t) const { return testing::SpecificForce(*this, t); }
+  NavState State(TimeNs t_ns) const { return testing::StateOf(*this, t_ns); }
 };
 
-struct DeltaErrors {
-  double rotation = 0.0;  // rad
-  double velocity = 0.0;  // m/s
-  double position = 0.0;  // m
-  double Max() const { return std::max({rotation, velocity, position}); }
-};
+using testing::DeltaErrors;
 
 // Noise-free samples every step_ns over [t0_ns, t1_ns] (both on the grid).
 std::vector<ImuSample> CarSamples(TimeNs t0_ns, TimeNs t1_ns, TimeNs step_ns) {
   const CarTrajectory car;
   std::vector<ImuSample> samples;
   for (TimeNs t_ns = t0_ns; t_ns <= t1_ns; t_ns += step_ns) {
-    ImuSample s;
-    s.header.stamp_ns = t_ns;
-    s.gyro = car.Gyro(ToSeconds(t_ns));
-    s.accel = car.Accel(ToSeconds(t_ns));
-    samples.push_back(s);
+    samples.push_back(testing::SampleOf(car, t_ns));
   }
   return samples;
-}
-
-DeltaErrors CompareWithTruth(const ImuPreintegration& pim) {
-  const CarTrajectory car;
-  const NavState si = car.State(pim.start_ns());
-  const NavState sj = car.State(pim.end_ns());
-  const double dt = ToSeconds(sj.t_ns - si.t_ns);
-  const Quat qi_inv = si.q_world_imu.conjugate();
-  const Quat dq_true = qi_inv * sj.q_world_imu;
-  const Vec3 dv_true = qi_inv * (sj.v_world - si.v_world - kGravityWorld * dt);
-  const Vec3 dp_true =
-      qi_inv * (sj.p_world - si.p_world - si.v_world * dt - 0.5 * kGravityWorld * dt * dt);
-  DeltaErrors e;
-  e.rotation = so3::Log<double>(dq_true.conjugate() * pim.delta_q()).norm();
-  e.velocity = (pim.delta_v() - dv_true).norm();
-  e.position = (pim.delta_p() - dp_true).norm();
-  return e;
 }
 
 constexpr TimeNs kStep100Hz = 10'000'000;
@@ -130,7 +95,7 @@ DeltaErrors IntervalError(TimeNs t_begin_ns, TimeNs t_end_ns, TimeNs step_ns, in
       ImuPreintegration::FromSamples(samples, t_begin_ns, t_end_ns, ImuNoise{}, ImuBias{});
   EXPECT_EQ(pim.start_ns(), t_begin_ns);
   EXPECT_EQ(pim.end_ns(), t_end_ns);
-  const DeltaErrors e = CompareWithTruth(pim);
+  const DeltaErrors e = testing::PreintegrationErrors(CarTrajectory{}, pim);
   std::printf("%-34s %4.0f Hz: rot %.2e rad, vel %.2e m/s, pos %.2e m\n", label,
               1e9 / static_cast<double>(step_ns), e.rotation, e.velocity, e.position);
   return e;

@@ -15,12 +15,7 @@ namespace {
 
 using testing::HelixTrajectory;
 
-struct DeltaErrors {
-  double rotation = 0.0;  // rad
-  double velocity = 0.0;  // m/s
-  double position = 0.0;  // m
-  double Max() const { return std::max({rotation, velocity, position}); }
-};
+using testing::DeltaErrors;
 
 // Noise-free samples of the helix at rate_hz covering [t0, t0 + duration], starting `context`
 // samples before t0.
@@ -32,32 +27,14 @@ std::vector<ImuSample> HelixSamples(double t0_s, double duration_s, double rate_
   const int n = static_cast<int>(std::lround(duration_s * rate_hz));
   std::vector<ImuSample> samples;
   for (int k = -context; k <= n; ++k) {
-    ImuSample s;
-    s.header.stamp_ns = t0_ns + k * step_ns;
-    const double t = ToSeconds(s.header.stamp_ns);
-    s.gyro = helix.Gyro(t);
-    s.accel = helix.Accel(t);
-    samples.push_back(s);
+    samples.push_back(testing::SampleOf(helix, t0_ns + k * step_ns));
   }
   return samples;
 }
 
 // Difference between the preintegrated deltas and the exact deltas of the truth states.
 DeltaErrors CompareWithTruth(const ImuPreintegration& pim) {
-  const HelixTrajectory helix;
-  const NavState si = helix.State(pim.start_ns());
-  const NavState sj = helix.State(pim.end_ns());
-  const double dt = ToSeconds(sj.t_ns - si.t_ns);
-  const Quat qi_inv = si.q_world_imu.conjugate();
-  const Quat dq_true = qi_inv * sj.q_world_imu;
-  const Vec3 dv_true = qi_inv * (sj.v_world - si.v_world - kGravityWorld * dt);
-  const Vec3 dp_true =
-      qi_inv * (sj.p_world - si.p_world - si.v_world * dt - 0.5 * kGravityWorld * dt * dt);
-  DeltaErrors e;
-  e.rotation = so3::Log<double>(dq_true.conjugate() * pim.delta_q()).norm();
-  e.velocity = (pim.delta_v() - dv_true).norm();
-  e.position = (pim.delta_p() - dp_true).norm();
-  return e;
+  return testing::PreintegrationErrors(HelixTrajectory{}, pim);
 }
 
 // Over [t0, t0 + duration]: from a buffer holding 3 earlier samples (cubic interpolation from

@@ -19,6 +19,7 @@
 #include "core/so3.hpp"
 #include "core/state.hpp"
 #include "core/time.hpp"
+#include "trajectory_imu.hpp"
 
 namespace statebench::est::testing {
 
@@ -77,18 +78,8 @@ class VehicleTrajectory {
     Angles(t, &pitch, &yaw, &dp, &dy);
     return Vec3(-std::sin(pitch) * dy, dp, std::cos(pitch) * dy);
   }
-  Vec3 Accel(double t) const {
-    return Orientation(t).conjugate() * (Acceleration(t) - kGravityWorld);
-  }
-  NavState State(TimeNs t_ns) const {
-    const double t = ToSeconds(t_ns);
-    NavState s;
-    s.t_ns = t_ns;
-    s.q_world_imu = Orientation(t);
-    s.p_world = Position(t);
-    s.v_world = Velocity(t);
-    return s;
-  }
+  Vec3 Accel(double t) const { return SpecificForce(*this, t); }
+  NavState State(TimeNs t_ns) const { return StateOf(*this, t_ns); }
 
  private:
   double t_start_;
