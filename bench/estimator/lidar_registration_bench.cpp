@@ -60,6 +60,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/dense_town.hpp"
 #include "core/se3.hpp"
 #include "core/so3.hpp"
 #include "estimator/icp_registration.hpp"
@@ -82,7 +83,7 @@ constexpr double kLaneY = 120.0 - 5.25;
 const char* const kLidarModels[] = {"hesai_xt32", "velodyne_vlp16"};
 const char* const kLidarNames[] = {"XT32", "VLP-16"};
 
-double Terrain(double x, double y) { return 0.01 * x + 2.0 * std::sin(0.004 * y); }
+using bench::DenseTownTerrain;
 
 // True lidar pose: heading along the velocity, body z along the terrain normal.
 SE3 TrueLidarPose(TimeNs t_ns) {
@@ -97,7 +98,7 @@ SE3 TrueLidarPose(TimeNs t_ns) {
   const Vec3 y_b = z_b.cross(heading).normalized();
   Mat3 R;
   R << y_b.cross(z_b), y_b, z_b;
-  return SE3(Quat(R), Vec3(x, y, Terrain(x, y) + kLidarHeightM));
+  return SE3(Quat(R), Vec3(x, y, DenseTownTerrain(x, y) + kLidarHeightM));
 }
 
 double CpuSeconds(clockid_t clock) {
@@ -111,17 +112,8 @@ struct Town {
 
   Town() {
     using namespace sensors;
-    const RoadGeometry roads = MakeGridRoads(5, 5, 120.0, 2, 3.5, Terrain);
-    WorldLayoutOptions layout;
-    layout.seed = 1;
-    layout.buildings.probability = 0.95;
-    layout.buildings.facade_min_m = 12.0;
-    layout.buildings.facade_max_m = 30.0;
-    layout.buildings.gap_min_m = 1.0;
-    layout.buildings.gap_max_m = 5.0;
-    layout.buildings.height_min_m = 8.0;
-    layout.buildings.height_max_m = 30.0;
-    world = LidarWorld::Build(roads, Terrain, layout);
+    const RoadGeometry roads = bench::DenseTownRoads();
+    world = bench::BuildDenseTown(roads);
     // Traffic on every third lane at 8-14 m/s, leaving out vehicles that would come within 6 m
     // of our car (it is not part of the traffic).
     constexpr int kFrames = 70;  // 7 s of 100 ms steps

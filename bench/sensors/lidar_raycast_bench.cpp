@@ -12,13 +12,14 @@
 #include <ctime>
 #include <memory>
 
+#include "bench/dense_town.hpp"
 #include "sensors/lidar_simulator.hpp"
 #include "sensors/synthetic_roads.hpp"
 
 namespace statebench::sensors {
 namespace {
 
-double Terrain(double x, double y) { return 0.01 * x + 2.0 * std::sin(0.004 * y); }
+using bench::DenseTownTerrain;
 
 struct UrbanScene {
   std::unique_ptr<LidarWorld> world;
@@ -27,17 +28,8 @@ struct UrbanScene {
   std::size_t vehicles = 0;
 
   UrbanScene() {
-    const RoadGeometry roads = MakeGridRoads(5, 5, 120.0, 2, 3.5, Terrain);
-    WorldLayoutOptions layout;
-    layout.seed = 1;
-    layout.buildings.probability = 0.95;
-    layout.buildings.facade_min_m = 12.0;
-    layout.buildings.facade_max_m = 30.0;
-    layout.buildings.gap_min_m = 1.0;
-    layout.buildings.gap_max_m = 5.0;
-    layout.buildings.height_min_m = 8.0;
-    layout.buildings.height_max_m = 30.0;
-    world = LidarWorld::Build(roads, Terrain, layout);
+    const RoadGeometry roads = bench::DenseTownRoads();
+    world = bench::BuildDenseTown(roads);
     for (const WorldBox& b : world->layout().boxes) {
       buildings += b.material == SurfaceMaterial::kBuilding ? 1 : 0;
     }
@@ -82,7 +74,7 @@ SE3 Pose(TimeNs t_ns) {
   const double t = ToSeconds(t_ns);
   const double x = 200.0 + 10.0 * t;
   return SE3(Quat(Eigen::AngleAxisd(0.02 * std::sin(t), Vec3::UnitZ())),
-             Vec3(x, 120.0 - 5.25, Terrain(x, 114.75) + 1.9));
+             Vec3(x, 120.0 - 5.25, DenseTownTerrain(x, 114.75) + 1.9));
 }
 
 void BM_Xt32UrbanScan(benchmark::State& state) {
