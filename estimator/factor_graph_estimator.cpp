@@ -615,21 +615,23 @@ struct FactorGraphEstimator::Impl {
   }
 
   void ProcessWaitingScans() {
-    while (!lidar_waiting.empty() && SweepEnd(lidar_waiting.front()) <= newest_imu_ns) {
+    while (!lidar_waiting.empty()) {
+      const TimeNs sweep_end_ns = SweepEnd(lidar_waiting.front());
+      if (sweep_end_ns > newest_imu_ns) return;
       const LidarScan scan = lidar_waiting.front();
       lidar_waiting.pop_front();
-      RegisterScan(scan);
+      RegisterScan(scan, sweep_end_ns);
     }
   }
 
-  // The IMU pose at t (window or IMU prediction); nullopt if no longer held.
-  std::optional<SE3> ImuPoseAt(TimeNs t_ns) const {
-    const auto p = PredictAt(t_ns);
-    if (!p) return std::nullopt;
-    return SE3(p->state.q_world_imu, p->state.p_world);
+  // The IMU pose at t (window or IMU prediction, mean only); nullopt if no longer held.
+  std::optional<SE3> ImuPoseAt(TimeNs t_ns, std::span<const NavState> window) const {
+    const auto x = output.MeanAt(t_ns, window);
+    if (!x) return std::nullopt;
+    return SE3(x->q_world_imu, x->p_world);
   }
 
-  void RegisterScan(const LidarScan& scan) {
+  void RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
     const EstimatorSensor& lidar = *plan.lidars.front();
     const std::string& id = lidar.id;
     const SE3& X = lidar.T_imu_sensor;
@@ -637,16 +639,17 @@ struct FactorGraphEstimator::Impl {
     // IMU prior: the lidar's motion since the previous accepted scan and within the sweep
     // (poses every 5 ms, interpolated on SE3).
     std::optional<LidarMotionPrior> prior;
-    const std::optional<SE3> T_w_i = ImuPoseAt(t);
+    const std::vector<NavState> window = smoother.WindowStates();
+    const std::optional<SE3> T_w_i = ImuPoseAt(t, window);
     std::optional<SE3> T_w_prev;
-    if (last_scan_ns) T_w_prev = ImuPoseAt(*last_scan_ns);
+    if (last_scan_ns) T_w_prev = ImuPoseAt(*last_scan_ns, window);
     if (T_w_i) {
-      const TimeNs end = SweepEnd(scan);
+      const TimeNs end = sweep_end_ns;
       constexpr TimeNs kStep = 5 * kNsPerMillisecond;
       std::vector<std::pair<double, SE3>> table;
       const SE3 T_l_w = (*T_w_i * X).Inverse();
       for (TimeNs tk = t;; tk = std::min(end, tk + kStep)) {
-        const std::optional<SE3> T = ImuPoseAt(tk);
+        const std::optional<SE3> T = ImuPoseAt(tk, window);
         if (!T) break;
         table.emplace_back(ToSeconds(tk - t), T_l_w * *T * X);
         if (tk == end) break;

@@ -60,6 +60,20 @@ std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,
   return out;
 }
 
+std::optional<NavState> ImuRateOutput::MeanAt(TimeNs t_ns,
+                                              std::span<const NavState> window) const {
+  if (!anchor_ || imu_.empty() || t_ns > imu_.back().header.stamp_ns ||
+      t_ns < imu_.front().header.stamp_ns) {
+    return std::nullopt;
+  }
+  if (t_ns >= anchor_->state.t_ns) return Carry(anchor_->state, t_ns);
+  if (anchors_.empty()) return std::nullopt;
+  const auto from = LatestAtOrBefore(window.begin(), window.end(), t_ns,
+                                     [](const NavState& s) { return s.t_ns; });
+  if (from == window.end()) return std::nullopt;
+  return Carry(*from, t_ns);
+}
+
 void ImuRateOutput::Forget(TimeNs keep_ns) {
   while (anchors_.size() > 1 && anchors_[1].state.t_ns <= keep_ns) anchors_.pop_front();
   if (!anchors_.empty()) keep_ns = std::min(keep_ns, anchors_.front().state.t_ns);

@@ -38,6 +38,8 @@ class ImuRateOutput {
   // At t_ns before the anchor, from the smoothed window states (oldest first); nullopt if t_ns
   // is before the first of them or the samples held.
   std::optional<PropagatedState> InWindow(TimeNs t_ns, std::span<const NavState> window) const;
+  // The mean alone, as AfterAnchor or else InWindow give it (no covariance propagated).
+  std::optional<NavState> MeanAt(TimeNs t_ns, std::span<const NavState> window) const;
   // Mean of `from` carried to t_ns >= from.t_ns (biases kept).
   NavState Carry(const NavState& from, TimeNs t_ns) const;
 
