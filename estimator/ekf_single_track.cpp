@@ -140,7 +140,7 @@ struct EkfSingleTrackEstimator::Impl {
   }
 
   void Reject(const std::string& id, RejectReason reason) { ++diag.sensors[id].rejected[reason]; }
-  void Accept(const std::string& id) { ++diag.sensors[id].accepted; }
+  void Accept(const std::string& id, TimeNs stamp_ns) { diag.sensors[id].Accept(stamp_ns); }
 
   // ---- process model -------------------------------------------------------------------------
 
@@ -278,7 +278,7 @@ struct EkfSingleTrackEstimator::Impl {
     }
     Update<1>(y, H, R);
     last_accepted_speed_ns[id] = m.header.stamp_ns;
-    Accept(id);
+    Accept(id, m.header.stamp_ns);
   }
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
@@ -297,7 +297,7 @@ struct EkfSingleTrackEstimator::Impl {
     }
     Update<1>(y, H, R);
     last_accepted_heading_ns[id] = m.header.stamp_ns;
-    Accept(id);
+    Accept(id, m.header.stamp_ns);
   }
 
   // Receiver covariance with the setup's scale and eigenvalue floor.
@@ -338,7 +338,7 @@ struct EkfSingleTrackEstimator::Impl {
     z += k * (z_meas - z);
     Pz *= 1.0 - k;
     last_accepted_gnss_ns[id] = fix.header.stamp_ns;
-    Accept(id);
+    Accept(id, fix.header.stamp_ns);
     UpdateDiagnostics u;
     u.t_ns = t_ns;
     u.solve_time_s =
@@ -437,14 +437,14 @@ struct EkfSingleTrackEstimator::Impl {
       }
       if (!initialized) {
         TryInitialize(id, info, *enu);
-        Accept(id);
+        Accept(id, HeaderOf(m).stamp_ns);
         return;
       }
       UpdateGnss(id, info, *enu);
     } else if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
       encoder_speed = speed->speed_mps;
       if (!initialized) {
-        Accept(id);
+        Accept(id, HeaderOf(m).stamp_ns);
         return;
       }
       UpdateSpeed(id, info, *speed);
@@ -460,7 +460,7 @@ struct EkfSingleTrackEstimator::Impl {
       UpdateHeading(id, info, *heading);
     } else if (const auto* angle = std::get_if<SteeringAngle>(&m)) {
       steering = angle->angle_rad;
-      Accept(id);
+      Accept(id, HeaderOf(m).stamp_ns);
     }
   }
 
@@ -484,7 +484,7 @@ struct EkfSingleTrackEstimator::Impl {
       Reject(id, *reason);
       return;
     }
-    Accept(id);
+    Accept(id, sample.header.stamp_ns);
     const Vec3 gyro_body = R_body_imu * sample.gyro;
     const Vec3 accel_body = R_body_imu * sample.accel;
     accel_x = accel_body.x();

@@ -1,5 +1,7 @@
 #include "estimator/estimator_diagnostics.hpp"
 
+#include <algorithm>
+
 namespace statebench::est {
 
 std::string_view RejectReasonName(RejectReason reason) {
@@ -34,6 +36,11 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "registration_failed";
   }
   return "unknown";
+}
+
+void SensorCounters::Accept(TimeNs stamp_ns) {
+  ++accepted;
+  last_accepted_ns = std::max(last_accepted_ns, stamp_ns);
 }
 
 std::uint64_t SensorCounters::TotalRejected() const {

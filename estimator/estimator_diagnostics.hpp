@@ -44,6 +44,8 @@ struct SensorCounters {
   std::map<std::string, std::uint64_t> events;
   TimeNs last_accepted_ns = 0;  // stamp of the newest accepted measurement (0: none)
 
+  // Counts an accepted measurement stamped stamp_ns.
+  void Accept(TimeNs stamp_ns);
   std::uint64_t TotalRejected() const;
 };
 

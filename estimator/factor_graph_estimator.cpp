@@ -186,7 +186,7 @@ struct FactorGraphEstimator::Impl {
     if (const auto why = CheckImuSample(s)) return Reject(id, *why);
     if (s.header.stamp_ns <= newest_imu_ns) return Reject(id, RejectReason::kStampBackwards);
     if (AfterArrival(s.header)) return Reject(id, RejectReason::kStampInFuture);
-    ++Counters(id).accepted;
+    Accept(id, s.header.stamp_ns);
     newest_imu_ns = s.header.stamp_ns;
     output.AddImu(s);
     reorder.Push(s);
@@ -391,7 +391,8 @@ struct FactorGraphEstimator::Impl {
       }
     }
     const StampGroup inputs = GroupStamp(fixes, headings, setup);
-    for (const std::string& id : inputs.merged) ++Counters(id).accepted;  // via the heading
+    const TimeNs t_group = HeaderOf(group.front()).stamp_ns;
+    for (const std::string& id : inputs.merged) Accept(id, t_group);  // via the heading
     for (const PositionInput& p : inputs.positions) AddPosition(p);
     for (const HeadingInput& h : inputs.headings) AddHeading(h);
   }
@@ -410,7 +411,7 @@ struct FactorGraphEstimator::Impl {
     const std::string& id = fix.header.sensor_id;
     const Vec3& lever = in.p_imu_antenna;
     if (!initialized) {
-      ++Counters(id).accepted;
+      Accept(id, fix.header.stamp_ns);
       return initializer.AddPosition(fix, lever);
     }
     if (const auto predicted = PredictAt(fix.header.stamp_ns)) {
@@ -423,7 +424,7 @@ struct FactorGraphEstimator::Impl {
       return Reject(id, RejectReason::kTooOld);
     }
     gnss_gate = {std::max(gnss_gate.last_accepted_ns, fix.header.stamp_ns), false};
-    ++Counters(id).accepted;
+    Accept(id, fix.header.stamp_ns);
     Accepted a;
     a.stamp_ns = fix.header.stamp_ns;
     a.sensor_id = id;
@@ -438,7 +439,7 @@ struct FactorGraphEstimator::Impl {
     // A heading paired from fixes on one spot has no direction (NaN).
     if (const auto why = CheckDualAntennaHeading(in.heading)) return Reject(id, *why);
     if (!initialized) {
-      ++Counters(id).accepted;
+      Accept(id, t);
       return initializer.AddHeading(in.heading, in.baseline_imu);
     }
     if (const auto predicted = PredictAt(t)) {
@@ -456,7 +457,7 @@ struct FactorGraphEstimator::Impl {
       return Reject(id, RejectReason::kAbsurdValue);  // e.g. a vertical baseline
     }
     heading_gate = {std::max(heading_gate.last_accepted_ns, t), false};
-    ++Counters(id).accepted;
+    Accept(id, t);
     Accepted a;
     a.stamp_ns = t;
     a.sensor_id = id;
@@ -508,11 +509,7 @@ struct FactorGraphEstimator::Impl {
     ++Counters(id).events["kinematic_factors"];
   }
 
-  void Accept(const std::string& id, TimeNs t_ns) {
-    SensorCounters& c = Counters(id);
-    ++c.accepted;
-    c.last_accepted_ns = std::max(c.last_accepted_ns, t_ns);
-  }
+  void Accept(const std::string& id, TimeNs t_ns) { Counters(id).Accept(t_ns); }
 
   // ---- 4c. Motion constraints ---------------------------------------------------------------
 

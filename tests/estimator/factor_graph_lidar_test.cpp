@@ -121,6 +121,9 @@ TEST(FactorGraphLidar, LidarThatStopsSendingLeavesTheOtherSensorsRunning) {
   EXPECT_LT(r.max_position_error, 0.02);
   // The IMU-rate output went on to the end of the stream.
   EXPECT_GT(r.diagnostics.updates.back().t_ns, FromSeconds(15.0));
+  // ... and so did GNSS and the IMU, which the diagnostics show beside the silent lidar.
+  EXPECT_GT(r.diagnostics.sensors.at("gnss_front").last_accepted_ns, FromSeconds(15.5));
+  EXPECT_GT(r.diagnostics.sensors.at("imu").last_accepted_ns, FromSeconds(15.9));
 }
 
 // Empty scans, scans of NaN points and scans with too few points: rejected with the reason,
