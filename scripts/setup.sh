@@ -22,9 +22,18 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  # apt's output goes to a log file; the user sees one line (and the log's tail on failure).
+  mkdir -p build
+  log="build/apt-install.log"
+  echo "setup: installing ${#missing[@]} packages (${missing[*]}); apt output in $log"
+  if ! { $SUDO apt-get update -qq &&
+         DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+           "${missing[@]}"; } >"$log" 2>&1; then
+    tail -n 20 "$log" >&2
+    echo "setup: apt-get failed, see $log" >&2
+    exit 1
+  fi
+  echo "setup: installed ${#missing[@]} packages"
 else
   echo "setup: all ${#PACKAGES[@]} packages present"
 fi
