@@ -1,0 +1,50 @@
+// Encoder front end: the speed and steering encoders. With both (and the kinematic factor on),
+// the single-track kinematics between speed samples (KinematicOdometry) become relative-pose
+// factors at the rear axle, with the wheel radius calibrated online from the smoothed states.
+// The newest speed sample also serves the moving initialisation (velocity from the encoder) and
+// the standstill test of the motion constraints.
+#pragma once
+
+#include <optional>
+#include <utility>
+
+#include "estimator/encoder_scale_calibration.hpp"
+#include "estimator/factor_plan.hpp"
+#include "estimator/front_end.hpp"
+#include "estimator/kinematic_odometry.hpp"
+
+namespace statebench::est {
+
+class EncoderFrontEnd final : public MeasurementFrontEnd {
+ public:
+  // `setup` (through `plan`) and `options` must outlive the front end.
+  EncoderFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+                  const FactorGraphOptions& options, FrontEndContext& ctx);
+
+  // The newest speed sample (stamp, m/s), if any.
+  const std::optional<std::pair<TimeNs, double>>& last_speed() const { return last_speed_; }
+  bool has_speed_encoder() const { return plan_.speed != nullptr; }
+  // A kinematic factor ends less than 0.5 s before t_ns.
+  bool KinematicActive(TimeNs t_ns) const;
+
+  Claim Claims(const Measurement& m) const override;
+  int Pass(const Measurement& m) const override;
+  void Process(const Measurement& m) override;
+  void RefineInitialState(const ImuSample& sample, InitialState* init) const override;
+  void OnMarginalized(std::span<const NavState> left) override;
+
+ private:
+  void ProcessSteering(const SteeringAngle& a);
+  void ProcessSpeed(const VehicleSpeed& v);
+
+  const EstimatorSensorSetup& setup_;
+  const FactorPlan& plan_;
+  const FactorGraphOptions& options_;
+  FrontEndContext& ctx_;
+  std::optional<KinematicOdometry> kinematic_;
+  std::optional<EncoderScaleCalibration> encoder_scale_;
+  TimeNs last_kinematic_ns_ = INT64_MIN;  // t2 of the newest kinematic factor
+  std::optional<std::pair<TimeNs, double>> last_speed_;
+};
+
+}  // namespace statebench::est

@@ -1,0 +1,91 @@
+// The factor graph's front ends: each turns the measurements of one kind of sensor into factors
+// of the sliding-window smoother (GNSS fixes and headings, encoders, motion constraints, lidar).
+//
+// The orchestrator (FactorGraphEstimator) releases measurements in stamp order and hands each one
+// to the front end that takes it; a front end owns all of its own state and reaches the rest of
+// the estimator only through FrontEndContext. Hooks a front end does not need keep their empty
+// defaults. Adding a measurement kind means writing a front end and registering it with the
+// orchestrator (FactorGraphEstimator::Impl::front_ends); the intake finds it through Claims().
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/measurements.hpp"
+#include "core/state.hpp"
+#include "core/time.hpp"
+#include "estimator/estimator_diagnostics.hpp"
+#include "estimator/imu_rate_output.hpp"
+#include "estimator/sliding_window_smoother.hpp"
+#include "estimator/state_initializer.hpp"
+
+namespace statebench::est {
+
+// What a front end sees of the estimator: the smoother it adds factors to, the initialiser it
+// feeds before the first state, the state predicted at a stamp (gates, deskewing) and the
+// per-sensor counters of the diagnostics. Owned by the orchestrator.
+class FrontEndContext {
+ public:
+  // forward_imu: the vehicle's forward axis in the IMU frame (for the moving initialisation).
+  FrontEndContext(const SlidingWindowOptions& smoother_options,
+                  const InitializationOptions& initialization, const ImuNoise& noise,
+                  const Vec3& forward_imu)
+      : smoother(smoother_options),
+        initializer(initialization, noise, forward_imu),
+        output(noise) {}
+
+  SlidingWindowSmoother smoother;
+  StateInitializer initializer;
+  ImuRateOutput output;  // IMU-rate propagation from the newest solved state
+  EstimatorDiagnostics diag;
+  bool initialized = false;
+  TimeNs newest_imu_ns = INT64_MIN;  // newest accepted IMU sample (not yet released)
+
+  // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window
+  // (mean from the states around t, covariance of the newest state); nullopt if not held.
+  std::optional<PropagatedState> PredictAt(TimeNs t_ns) const {
+    if (const auto p = output.AfterAnchor(t_ns)) return p;
+    if (!output.has_anchor() || t_ns > newest_imu_ns) return std::nullopt;
+    const std::vector<NavState> window = smoother.WindowStates();
+    return output.InWindow(t_ns, window);
+  }
+
+  SensorCounters& Counters(const std::string& id) { return diag.sensors[id]; }
+  void Accept(const std::string& id, TimeNs t_ns) { Counters(id).Accept(t_ns); }
+  void Reject(const std::string& id, RejectReason reason) { ++Counters(id).rejected[reason]; }
+  void Count(const std::string& id, const std::string& event) { ++Counters(id).events[event]; }
+};
+
+// How a front end answers for a measurement: not its kind, its kind from a sensor the setup does
+// not have as such, or taken (whether or not the front end is enabled: a disabled one rejects
+// what it takes, counted as "disabled").
+enum class Claim { kOtherKind, kUnknownSensor, kTaken };
+
+class MeasurementFrontEnd {
+ public:
+  virtual ~MeasurementFrontEnd() = default;
+
+  virtual Claim Claims(const Measurement& m) const = 0;
+  // Measurements of one stamp are handed over in two passes, each in stamp-then-stream order:
+  // pass 0 first (e.g. a steering angle that the speed sample of the same stamp needs), then 1.
+  virtual int Pass(const Measurement& m) const { return 1; }
+  // A released measurement this front end takes (in stamp order; late ones after the fact).
+  virtual void Process(const Measurement& m) = 0;
+  // After every measurement of one stamp was handed over (GNSS pairs the fixes of a stamp).
+  virtual void EndOfStamp() {}
+  // Every IMU sample, as it is released to the smoother.
+  virtual void OnImu(const ImuSample& sample) {}
+  // After each release of measurements (e.g. scans waiting for the IMU to cover their sweep).
+  virtual void AfterRelease() {}
+  // Before the first state is set: may refine it with what this front end knows.
+  virtual void RefineInitialState(const ImuSample& sample, InitialState* init) const {}
+  virtual void OnInitialized(TimeNs t_ns) {}
+  // After a solve: the states that left the window (final), oldest first.
+  virtual void OnMarginalized(std::span<const NavState> left) {}
+  // The oldest stamp whose IMU-rate propagation this front end still needs.
+  virtual TimeNs OldestStampNeeded() const { return INT64_MAX; }
+};
+
+}  // namespace statebench::est

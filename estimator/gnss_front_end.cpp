@@ -1,0 +1,169 @@
+#include "estimator/gnss_front_end.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+#include "estimator/gnss_enu.hpp"
+#include "estimator/measurement_checks.hpp"
+#include "estimator/measurement_gate.hpp"
+
+namespace statebench::est {
+
+GnssFrontEnd::GnssFrontEnd(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
+                           FrontEndContext& ctx)
+    : setup_(setup), options_(options), ctx_(ctx) {
+  if (options.origin) frame_.emplace(*options.origin);
+}
+
+Claim GnssFrontEnd::Claims(const Measurement& m) const {
+  const std::string& id = HeaderOf(m).sensor_id;
+  if (std::holds_alternative<GnssFix>(m)) {
+    return setup_.FindAntenna(id) != nullptr ? Claim::kTaken : Claim::kUnknownSensor;
+  }
+  if (std::holds_alternative<DualAntennaHeading>(m)) {
+    return setup_.FindHeading(id) != nullptr ? Claim::kTaken : Claim::kUnknownSensor;
+  }
+  return Claim::kOtherKind;
+}
+
+// The fix in ENU with the antenna's covariance overrides; nullopt (counted) if the covariance
+// threshold discards it. The first fix that passes sets the origin if the options give none.
+std::optional<GnssPositionEnu> GnssFrontEnd::ToEnu(const GnssFix& fix) {
+  GnssFix adjusted = fix;
+  adjusted.covariance_enu =
+      AntennaCovariance(*setup_.FindAntenna(fix.header.sensor_id), fix.covariance_enu);
+  if (LargestSigma(adjusted.covariance_enu) > options_.gnss.max_sigma) {
+    ctx_.Reject(fix.header.sensor_id, RejectReason::kCovarianceThreshold);
+    return std::nullopt;
+  }
+  if (!frame_) frame_.emplace(GeodeticPoint{fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
+  std::optional<GnssPositionEnu> enu = GnssFixToEnu(adjusted, *frame_);
+  if (!enu) ctx_.Reject(fix.header.sensor_id, RejectReason::kInvalidCovariance);
+  return enu;
+}
+
+void GnssFrontEnd::Process(const Measurement& m) {
+  stamp_ns_ = HeaderOf(m).stamp_ns;
+  if (const auto* f = std::get_if<GnssFix>(&m)) {
+    if (auto enu = ToEnu(*f)) fixes_[f->header.sensor_id] = *enu;
+  } else if (const auto* h = std::get_if<DualAntennaHeading>(&m)) {
+    if (h->yaw_sigma_rad > options_.heading.max_sigma) {
+      ctx_.Reject(h->header.sensor_id, RejectReason::kCovarianceThreshold);
+    } else {
+      headings_[h->header.sensor_id] = *h;
+    }
+  }
+}
+
+void GnssFrontEnd::EndOfStamp() {
+  if (fixes_.empty() && headings_.empty()) return;
+  const StampGroup inputs = GroupStamp(fixes_, headings_, setup_);
+  fixes_.clear();
+  headings_.clear();
+  for (const std::string& id : inputs.merged) ctx_.Accept(id, stamp_ns_);  // via the heading
+  for (const PositionInput& p : inputs.positions) AddPosition(p);
+  for (const HeadingInput& h : inputs.headings) AddHeading(h);
+}
+
+void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
+  gnss_gate_.last_accepted_ns = heading_gate_.last_accepted_ns = t_ns;
+}
+
+bool GnssFrontEnd::PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
+                              double mahalanobis_squared) {
+  if (mahalanobis_squared <= gate.gate_chi2) return true;
+  const bool reset = state.rejected_since && state.last_accepted_ns != INT64_MIN &&
+                     t_ns - state.last_accepted_ns > FromSeconds(gate.gate_reset_s);
+  state.rejected_since = !reset;
+  return reset;
+}
+
+void GnssFrontEnd::AddPosition(const PositionInput& in) {
+  const GnssPositionEnu& fix = in.fix;
+  const std::string& id = fix.header.sensor_id;
+  const Vec3& lever = in.p_imu_antenna;
+  if (!ctx_.initialized) {
+    ctx_.Accept(id, fix.header.stamp_ns);
+    return ctx_.initializer.AddPosition(fix, lever);
+  }
+  if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
+    const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
+    if (!PassesGate(options_.gnss, gnss_gate_, fix.header.stamp_ns, d2)) {
+      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+    }
+  }
+  if (ctx_.smoother.AddGnss(fix, lever) == AddResult::kTooOld) {
+    return ctx_.Reject(id, RejectReason::kTooOld);
+  }
+  gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
+  ctx_.Accept(id, fix.header.stamp_ns);
+  Accepted a;
+  a.stamp_ns = fix.header.stamp_ns;
+  a.sensor_id = id;
+  a.fix = fix;
+  a.p_imu_antenna = lever;
+  accepted_.push_back(a);
+}
+
+void GnssFrontEnd::AddHeading(const HeadingInput& in) {
+  const std::string& id = in.counter_id;
+  const TimeNs t = in.heading.header.stamp_ns;
+  // A heading paired from fixes on one spot has no direction (NaN).
+  if (const auto why = CheckDualAntennaHeading(in.heading)) return ctx_.Reject(id, *why);
+  if (!ctx_.initialized) {
+    ctx_.Accept(id, t);
+    return ctx_.initializer.AddHeading(in.heading, in.baseline_imu);
+  }
+  if (const auto predicted = ctx_.PredictAt(t)) {
+    const double d2 = HeadingMahalanobisSquared(*predicted, in.baseline_imu, in.heading);
+    if (!PassesGate(options_.heading, heading_gate_, t, d2)) {
+      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+    }
+  }
+  const Vec3 main = Vec3::Zero();  // the factor only uses the baseline direction
+  try {
+    if (ctx_.smoother.AddDualAntenna(in.heading, main, in.baseline_imu) == AddResult::kTooOld) {
+      return ctx_.Reject(id, RejectReason::kTooOld);
+    }
+  } catch (const InputError&) {
+    return ctx_.Reject(id, RejectReason::kAbsurdValue);  // e.g. a vertical baseline
+  }
+  heading_gate_ = {std::max(heading_gate_.last_accepted_ns, t), false};
+  ctx_.Accept(id, t);
+  Accepted a;
+  a.stamp_ns = t;
+  a.sensor_id = id;
+  a.is_heading = true;
+  a.heading = in.heading;
+  a.baseline_imu = in.baseline_imu;
+  accepted_.push_back(a);
+}
+
+// Measurements anchored at states that left the window are final: compare their whitened
+// residual at the final estimate with the robust kernel's scale.
+void GnssFrontEnd::OnMarginalized(std::span<const NavState> left) {
+  if (left.empty()) return;
+  const TimeNs t_window = ctx_.smoother.WindowStates().front().t_ns;
+  while (!accepted_.empty() && accepted_.front().stamp_ns < t_window) {
+    const Accepted& a = accepted_.front();
+    auto it = std::upper_bound(left.begin(), left.end(), a.stamp_ns,
+                               [](TimeNs t, const NavState& s) { return t < s.t_ns; });
+    if (it != left.begin()) {
+      const PropagatedState at{ctx_.output.Carry(*std::prev(it), a.stamp_ns), Mat15::Zero()};
+      const double d2 =
+          a.is_heading ? HeadingMahalanobisSquared(at, a.baseline_imu, a.heading)
+                       : GnssMahalanobisSquared(at, a.p_imu_antenna, a.fix.p_enu, a.fix.covariance);
+      const RobustKernel& k = a.is_heading ? options_.heading.kernel : options_.gnss.kernel;
+      if (k.type != RobustKernelType::kNone && d2 > k.scale * k.scale) {
+        ++ctx_.Counters(a.sensor_id).downweighted;
+      }
+    }
+    accepted_.pop_front();
+  }
+}
+
+TimeNs GnssFrontEnd::OldestStampNeeded() const {
+  return accepted_.empty() ? INT64_MAX : accepted_.front().stamp_ns;
+}
+
+}  // namespace statebench::est

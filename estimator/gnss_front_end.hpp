@@ -1,0 +1,73 @@
+// GNSS front end: antenna fixes and dual-antenna headings. Fixes are converted to the local ENU
+// frame (the first usable fix sets its origin unless the options give one), discarded above the
+// covariance threshold, paired into headings where the setup says so (GroupStamp), gated on
+// their Mahalanobis distance to the prediction (with a reset after gate_reset_s of rejections),
+// and become position and heading factors; before the first state they feed the initialiser.
+// Accepted measurements are kept until they leave the window to count those the robust kernel
+// down-weighted at the final estimate.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "core/geodetic.hpp"
+#include "estimator/estimator_config.hpp"
+#include "estimator/front_end.hpp"
+#include "estimator/gnss_stamp_group.hpp"
+
+namespace statebench::est {
+
+class GnssFrontEnd final : public MeasurementFrontEnd {
+ public:
+  // `setup` must outlive the front end.
+  GnssFrontEnd(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
+               FrontEndContext& ctx);
+
+  // The local ENU frame; nullopt until the options or the first fix give its origin.
+  const std::optional<LocalEnuFrame>& frame() const { return frame_; }
+
+  Claim Claims(const Measurement& m) const override;
+  void Process(const Measurement& m) override;
+  void EndOfStamp() override;
+  void OnInitialized(TimeNs t_ns) override;
+  void OnMarginalized(std::span<const NavState> left) override;
+  TimeNs OldestStampNeeded() const override;
+
+ private:
+  // Last time a measurement of a kind passed the gate, for the gate's reset.
+  struct GateState {
+    TimeNs last_accepted_ns = INT64_MIN;
+    bool rejected_since = false;
+  };
+  // A measurement in the smoother, kept until it leaves the window.
+  struct Accepted {
+    TimeNs stamp_ns = 0;
+    std::string sensor_id;
+    bool is_heading = false;
+    GnssPositionEnu fix;
+    Vec3 p_imu_antenna = Vec3::Zero();
+    DualAntennaHeading heading;
+    Vec3 baseline_imu = Vec3::Zero();
+  };
+
+  std::optional<GnssPositionEnu> ToEnu(const GnssFix& fix);
+  bool PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
+                  double mahalanobis_squared);
+  void AddPosition(const PositionInput& in);
+  void AddHeading(const HeadingInput& in);
+
+  const EstimatorSensorSetup& setup_;
+  const FactorGraphOptions& options_;
+  FrontEndContext& ctx_;
+  std::optional<LocalEnuFrame> frame_;
+  // The fixes and headings of the stamp being handed over.
+  std::map<std::string, GnssPositionEnu> fixes_;        // by antenna id
+  std::map<std::string, DualAntennaHeading> headings_;  // by heading id
+  TimeNs stamp_ns_ = 0;
+  GateState gnss_gate_, heading_gate_;
+  std::deque<Accepted> accepted_;  // in the smoother, oldest first
+};
+
+}  // namespace statebench::est

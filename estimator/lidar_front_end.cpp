@@ -1,0 +1,165 @@
+#include "estimator/lidar_front_end.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+#include "estimator/sqrt_information.hpp"
+
+namespace statebench::est {
+namespace {
+
+TimeNs SweepEnd(const LidarScan& scan) {
+  float t_max = 0.f;
+  for (const LidarPoint& p : *scan.points) {
+    if (std::isfinite(p.t)) t_max = std::max(t_max, p.t);
+  }
+  return scan.header.stamp_ns + FromSeconds(std::min(0.5, static_cast<double>(t_max)));
+}
+
+}  // namespace
+
+LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+                             const FactorGraphOptions& options, FrontEndContext& ctx)
+    : setup_(setup), plan_(plan), options_(options), ctx_(ctx) {
+  if (!plan.lidars.empty()) odometry_.emplace(options.lidar.odometry);
+  if (plan.lidars.size() > 1) {
+    // Several lidars: one merged scan per period in the first lidar's frame.
+    std::vector<LidarMount> mounts;
+    const SE3 T_ref_imu = plan.lidars.front()->T_imu_sensor.Inverse();
+    for (const EstimatorSensor* l : plan.lidars) {
+      mounts.push_back({l->id, T_ref_imu * l->T_imu_sensor});
+    }
+    LidarScanMergerOptions merge;
+    merge.merged_id = plan.lidars.front()->id;
+    merger_.emplace(std::move(mounts), merge);
+  }
+}
+
+Claim LidarFrontEnd::Claims(const Measurement& m) const {
+  if (!std::holds_alternative<LidarScan>(m)) return Claim::kOtherKind;
+  const EstimatorSensor* s = setup_.Find(HeaderOf(m).sensor_id);
+  return s != nullptr && s->kind == SensorKind::kLidar ? Claim::kTaken : Claim::kUnknownSensor;
+}
+
+bool LidarFrontEnd::Used(const std::string& id) const {
+  return std::any_of(plan_.lidars.begin(), plan_.lidars.end(),
+                     [&](const EstimatorSensor* l) { return l->id == id; });
+}
+
+void LidarFrontEnd::Process(const Measurement& m) {
+  const LidarScan& scan = std::get<LidarScan>(m);
+  const std::string& id = scan.header.sensor_id;
+  if (!Used(id)) return ctx_.Reject(id, RejectReason::kDisabled);
+  if (!ctx_.initialized) return ctx_.Reject(id, RejectReason::kNotInitialized);
+  if (!merger_) {
+    waiting_.push_back(scan);
+  } else {
+    // Several lidars: counted here, registered as one merged scan (under the first id).
+    ctx_.Accept(id, scan.header.stamp_ns);
+    for (LidarScan& merged : merger_->Add(scan)) waiting_.push_back(std::move(merged));
+  }
+  ProcessWaitingScans();
+}
+
+void LidarFrontEnd::ProcessWaitingScans() {
+  while (!waiting_.empty()) {
+    const TimeNs sweep_end_ns = SweepEnd(waiting_.front());
+    if (sweep_end_ns > ctx_.newest_imu_ns) return;
+    const LidarScan scan = waiting_.front();
+    waiting_.pop_front();
+    RegisterScan(scan, sweep_end_ns);
+  }
+}
+
+// IMU prior: the lidar's motion since the previous accepted scan and within the sweep (poses
+// every 5 ms, interpolated on SE3), from the window or the IMU prediction (mean only).
+std::optional<LidarMotionPrior> LidarFrontEnd::MotionPrior(TimeNs t, TimeNs sweep_end_ns,
+                                                           std::optional<SE3>* T_w_prev) const {
+  const SE3& X = plan_.lidars.front()->T_imu_sensor;
+  const std::vector<NavState> window = ctx_.smoother.WindowStates();
+  const auto pose_at = [&](TimeNs t_ns) -> std::optional<SE3> {
+    const auto x = ctx_.output.MeanAt(t_ns, window);
+    if (!x) return std::nullopt;
+    return SE3(x->q_world_imu, x->p_world);
+  };
+  const std::optional<SE3> T_w_i = pose_at(t);
+  if (last_scan_ns_) *T_w_prev = pose_at(*last_scan_ns_);
+  if (!T_w_i) return std::nullopt;
+  constexpr TimeNs kStep = 5 * kNsPerMillisecond;
+  std::vector<std::pair<double, SE3>> table;
+  const SE3 T_l_w = (*T_w_i * X).Inverse();
+  for (TimeNs tk = t;; tk = std::min(sweep_end_ns, tk + kStep)) {
+    const std::optional<SE3> T = pose_at(tk);
+    if (!T) break;
+    table.emplace_back(ToSeconds(tk - t), T_l_w * *T * X);
+    if (tk == sweep_end_ns) break;
+  }
+  if (table.empty() || (!*T_w_prev && last_scan_ns_)) return std::nullopt;
+  LidarMotionPrior p;
+  p.T_prev_curr = *T_w_prev ? (**T_w_prev * X).Inverse() * (*T_w_i * X) : SE3::Identity();
+  p.sweep = [table](double ts) {
+    if (ts <= table.front().first) return table.front().second;
+    for (std::size_t k = 1; k < table.size(); ++k) {
+      if (ts <= table[k].first) {
+        const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
+        return SE3::Interpolate(table[k - 1].second, table[k].second, a);
+      }
+    }
+    return table.back().second;
+  };
+  return p;
+}
+
+void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
+  const EstimatorSensor& lidar = *plan_.lidars.front();
+  const std::string& id = lidar.id;
+  const TimeNs t = scan.header.stamp_ns;
+  std::optional<SE3> T_w_prev;
+  const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, &T_w_prev);
+  const LidarOdometryResult r = odometry_->RegisterScan(scan, prior);
+  if (!r.accepted) {
+    // The category of the reason (its text before the details in parentheses).
+    const std::string reason = r.reject_reason.substr(0, r.reject_reason.find(" ("));
+    ctx_.Count(id, reason.empty() ? "registration failed" : reason);
+    return ctx_.Reject(id, RejectReason::kRegistrationFailed);
+  }
+  if (r.diagnostics.degenerate) ctx_.Count(id, "degenerate");
+  last_scan_ns_ = t;
+  const bool merged = merger_.has_value();  // the input scans were counted already
+  if (r.first_scan) {
+    ctx_.Count(id, "registered");
+    return merged ? void() : ctx_.Accept(id, t);
+  }
+  if (prior && T_w_prev) {
+    const SE3 deviation = prior->T_prev_curr.Inverse() * r.T_prev_curr;
+    if (deviation.translation().norm() > options_.lidar.max_prior_deviation_m) {
+      ctx_.Count(id, "deviates_from_imu_prior");
+      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+    }
+  }
+  Mat6 covariance = options_.lidar.covariance_scale * r.covariance;
+  covariance.diagonal().head<3>().array() +=
+      options_.lidar.min_sigma_translation_m * options_.lidar.min_sigma_translation_m;
+  covariance.diagonal().tail<3>().array() +=
+      options_.lidar.min_sigma_rotation_rad * options_.lidar.min_sigma_rotation_rad;
+  RelativePoseMeasurement m;
+  m.T_s1_s2 = r.T_prev_curr;
+  m.T_imu_sensor = lidar.T_imu_sensor;
+  try {
+    m.sqrt_information = SqrtInformationOfCovariance(covariance, "lidar relative pose");
+  } catch (const InputError&) {
+    return ctx_.Reject(id, RejectReason::kInvalidCovariance);
+  }
+  if (ctx_.smoother.AddRelativePose(r.prev_stamp_ns, t, m, options_.lidar.kernel) ==
+      AddResult::kTooOld) {
+    return ctx_.Reject(id, RejectReason::kTooOld);
+  }
+  ctx_.Count(id, "registered");
+  if (!merged) ctx_.Accept(id, t);
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,86 @@
+#include "estimator/motion_constraint_front_end.hpp"
+
+#include <cmath>
+
+namespace statebench::est {
+
+MotionConstraintFrontEnd::MotionConstraintFrontEnd(const EstimatorSensorSetup& setup,
+                                                   const FactorPlan& plan,
+                                                   const FactorGraphOptions& options,
+                                                   const EncoderFrontEnd& encoders,
+                                                   FrontEndContext& ctx)
+    : imu_id_(setup.imu_id), plan_(plan), options_(options), encoders_(encoders), ctx_(ctx) {}
+
+void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
+  recent_imu_.push_back(s);
+  while (s.header.stamp_ns - recent_imu_.front().header.stamp_ns >
+         FromSeconds(options_.zero_velocity.window_s)) {
+    recent_imu_.pop_front();
+  }
+  if (!ctx_.initialized) return;
+  const TimeNs t = s.header.stamp_ns;
+  AddNonHolonomic(s);
+  const ZeroVelocityOptions& z = options_.zero_velocity;
+  if (z.enabled && t >= next_zupt_ns_ && StandingStill(t)) {
+    next_zupt_ns_ = t + FromSeconds(1.0 / z.rate_hz);
+    BodyVelocityMeasurement m;
+    m.sqrt_information = Mat3::Identity() / z.sigma_mps;
+    if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
+      ctx_.Count(imu_id_, "zero_velocity_factors");
+    }
+  }
+}
+
+void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
+  const TimeNs t = s.header.stamp_ns;
+  const NonHolonomicOptions& nhc = options_.non_holonomic;
+  if (!nhc.enabled || t < next_nhc_ns_ || encoders_.KinematicActive(t)) return;
+  next_nhc_ns_ = t + FromSeconds(1.0 / nhc.rate_hz);
+  BodyVelocityMeasurement m;
+  m.p_imu_point = plan_.T_imu_axle.translation();
+  m.q_imu_frame = plan_.T_imu_axle.rotation();
+  // Side slip grows with the lateral acceleration v * omega.
+  double speed = 0.0;
+  if (const auto p = ctx_.PredictAt(t)) speed = p->state.v_world.norm();
+  const double yaw_rate = (plan_.T_imu_axle.rotation().conjugate() * s.gyro).z();
+  const double lateral_sigma =
+      nhc.lateral_sigma_mps + nhc.slip_per_lateral_accel * speed * speed * std::abs(yaw_rate);
+  m.sqrt_information = Vec3(0.0, 1.0 / lateral_sigma, 1.0 / nhc.vertical_sigma_mps).asDiagonal();
+  if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
+    ctx_.Count(imu_id_, "non_holonomic_factors");
+  }
+}
+
+// The IMU is quiet over the window and the speed encoder reads zero (or, without one, the
+// estimated speed is low).
+bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
+  const ZeroVelocityOptions& z = options_.zero_velocity;
+  if (recent_imu_.size() < 3 ||
+      t_ns - recent_imu_.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
+    return false;
+  }
+  Vec3 mean_g = Vec3::Zero(), mean_a = Vec3::Zero();
+  for (const ImuSample& s : recent_imu_) {
+    mean_g += s.gyro;
+    mean_a += s.accel;
+  }
+  const double n = static_cast<double>(recent_imu_.size());
+  mean_g /= n;
+  mean_a /= n;
+  Vec3 var_g = Vec3::Zero(), var_a = Vec3::Zero();
+  for (const ImuSample& s : recent_imu_) {
+    var_g += (s.gyro - mean_g).cwiseAbs2();
+    var_a += (s.accel - mean_a).cwiseAbs2();
+  }
+  if ((var_g / (n - 1)).cwiseSqrt().maxCoeff() > z.max_gyro_std_radps) return false;
+  if ((var_a / (n - 1)).cwiseSqrt().maxCoeff() > z.max_accel_std_mps2) return false;
+  if (encoders_.has_speed_encoder()) {
+    const auto& last = encoders_.last_speed();
+    return last && t_ns - last->first < FromSeconds(0.5) &&
+           std::abs(last->second) <= z.max_encoder_speed_mps;
+  }
+  const auto predicted = ctx_.PredictAt(t_ns);
+  return predicted && predicted->state.v_world.norm() < z.max_estimated_speed_mps;
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,41 @@
+// Motion-constraint front end: vehicle-model-free factors on the IMU stream. Non-holonomic: the
+// rear axle moves neither sideways nor vertically (sigma growing with the lateral acceleration
+// for slip), at `rate_hz` while no kinematic factor constrains the same motion. Zero velocity:
+// the IMU is quiet over a window and the speed encoder reads zero (without one, the estimated
+// speed is low).
+#pragma once
+
+#include <deque>
+
+#include "estimator/encoder_front_end.hpp"
+#include "estimator/factor_plan.hpp"
+#include "estimator/front_end.hpp"
+
+namespace statebench::est {
+
+class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
+ public:
+  // `plan`, `options` and `encoders` must outlive the front end.
+  MotionConstraintFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+                           const FactorGraphOptions& options, const EncoderFrontEnd& encoders,
+                           FrontEndContext& ctx);
+
+  Claim Claims(const Measurement&) const override { return Claim::kOtherKind; }
+  void Process(const Measurement&) override {}
+  void OnImu(const ImuSample& s) override;
+
+ private:
+  void AddNonHolonomic(const ImuSample& s);
+  bool StandingStill(TimeNs t_ns) const;
+
+  const std::string imu_id_;
+  const FactorPlan& plan_;
+  const FactorGraphOptions& options_;
+  const EncoderFrontEnd& encoders_;
+  FrontEndContext& ctx_;
+  std::deque<ImuSample> recent_imu_;  // released samples over the zero-velocity window
+  TimeNs next_nhc_ns_ = INT64_MIN;
+  TimeNs next_zupt_ns_ = INT64_MIN;
+};
+
+}  // namespace statebench::est

@@ -1,0 +1,276 @@
+// Internal to SlidingWindowSmoother (not part of the estimator's API): the window of states as
+// Ceres parameter blocks, the factors anchored at each state, the raw IMU buffer they are
+// preintegrated from, the factors waiting for the IMU, marginalisation of the oldest state and
+// the newest state's information.
+#pragma once
+
+#include <ceres/problem.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <functional>
+#include <initializer_list>
+#include <span>
+#include <vector>
+
+#include "core/error.hpp"
+#include "estimator/bias_random_walk_factor.hpp"
+#include "estimator/dual_antenna_factor.hpp"
+#include "estimator/gnss_propagated_position_factor.hpp"
+#include "estimator/imu_factor.hpp"
+#include "estimator/imu_preintegration.hpp"
+#include "estimator/linear_system.hpp"
+#include "estimator/marginalization_prior.hpp"
+#include "estimator/sliding_window_smoother.hpp"
+#include "estimator/so3_manifold.hpp"
+#include "estimator/sqrt_information.hpp"
+#include "estimator/state_parameters.hpp"
+
+namespace statebench::est {
+
+struct SlidingWindowSmoother::Impl {
+  static constexpr std::ptrdiff_t kPreintegrationContextSamples = 3;
+
+  enum class FactorKind { kPrior, kImu, kBias, kGnss, kHeading, kRelativePose, kVelocity };
+
+  struct Factor {
+    FactorKind kind;
+    FactorRecord record;
+  };
+
+  // One state; held by unique_ptr so the parameter block addresses never move. Factors are
+  // anchored at the oldest state they touch, so marginalising a state involves exactly its own.
+  struct Node {
+    TimeNs t_ns = 0;
+    StateParameters x;
+    std::vector<Factor> factors;
+
+    std::vector<double*> Blocks() {
+      return {x.q_world_imu.data(), x.p_world.data(), x.v_world.data(), x.bias.data()};
+    }
+    NavState State() const { return x.ToNavState(t_ns); }
+  };
+
+  explicit Impl(const SlidingWindowOptions& o) : options(o), problem(ProblemOptions()) {}
+
+  static ceres::Problem::Options ProblemOptions() {
+    ceres::Problem::Options p;
+    p.enable_fast_removal = true;
+    p.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // one shared manifold
+    return p;
+  }
+
+  SlidingWindowOptions options;
+  RightQuaternionManifold manifold;
+  ceres::Problem problem;
+  std::deque<std::unique_ptr<Node>> states;
+  std::vector<ImuSample> imu;  // raw samples from the oldest state's stamp on
+  int samples_since_state = 0;
+  // A factor whose measurement is newer than the newest IMU sample: it waits until the IMU
+  // reaches ready_ns, then hangs on the latest state at or before anchor_ns.
+  struct Pending {
+    FactorKind kind;
+    TimeNs anchor_ns;
+    TimeNs ready_ns;
+    std::function<void(Node& anchor)> attach;
+  };
+  std::vector<Pending> pending;
+  std::vector<NavState> marginalized;
+  int num_dropped = 0;  // pending measurements found too old, since the last Solve
+
+  void AddBlocks(Node& n) {
+    problem.AddParameterBlock(n.x.q_world_imu.data(), 4, &manifold);
+    problem.AddParameterBlock(n.x.p_world.data(), 3);
+    problem.AddParameterBlock(n.x.v_world.data(), 3);
+    problem.AddParameterBlock(n.x.bias.data(), 6);
+  }
+
+  void AddFactor(Node& anchor, FactorKind kind, ceres::CostFunction* cost,
+                 ceres::LossFunction* loss, std::vector<double*> blocks) {
+    problem.AddResidualBlock(cost, loss, blocks);
+    anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}});
+  }
+
+  // Latest state with t_ns <= t, or nullptr if t is before the window.
+  Node* Anchor(TimeNs t_ns) {
+    if (states.empty() || t_ns < states.front()->t_ns) return nullptr;
+    auto it = std::upper_bound(states.begin(), states.end(), t_ns,
+                               [](TimeNs t, const auto& n) { return t < n->t_ns; });
+    return std::prev(it)->get();
+  }
+
+  ImuPreintegration Preintegrate(const Node& from, TimeNs t_end_ns) const {
+    const NavState s = from.State();
+    return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu), from.t_ns, t_end_ns,
+                                          options.imu_noise, ImuBias{s.gyro_bias, s.accel_bias});
+  }
+
+  void CreateState(TimeNs t_ns) {
+    Node& prev = *states.back();
+    ImuPreintegration pim = Preintegrate(prev, t_ns);
+    auto node = std::make_unique<Node>();
+    node->t_ns = t_ns;
+    node->x = StateParameters::FromNavState(pim.Predict(prev.State()));
+    AddBlocks(*node);
+    const double dt = pim.dt();
+    AddFactor(prev, FactorKind::kImu, new ImuFactor(std::move(pim)), nullptr,
+              {prev.x.q_world_imu.data(), prev.x.p_world.data(), prev.x.v_world.data(),
+               prev.x.bias.data(), node->x.q_world_imu.data(), node->x.p_world.data(),
+               node->x.v_world.data()});
+    AddFactor(prev, FactorKind::kBias, new BiasRandomWalkFactor(options.imu_noise, dt), nullptr,
+              {prev.x.bias.data(), node->x.bias.data()});
+    states.push_back(std::move(node));
+  }
+
+  void AttachGnss(Node& anchor, const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
+    auto* cost = new GnssPropagatedPositionFactor(fix.p_enu, fix.covariance, p_imu_antenna,
+                                                  Preintegrate(anchor, fix.header.stamp_ns),
+                                                  anchor.State().q_world_imu);
+    AddFactor(anchor, FactorKind::kGnss, cost, options.gnss_kernel.MakeLossFunction().release(),
+              {anchor.x.q_world_imu.data(), anchor.x.p_world.data(), anchor.x.v_world.data(),
+               anchor.x.bias.data()});
+  }
+
+  void AttachHeading(Node& anchor, const DualAntennaHeading& heading, const Vec3& p_imu_main,
+                     const Vec3& p_imu_aux) {
+    const Quat dR = Preintegrate(anchor, heading.header.stamp_ns).delta_q();
+    AddFactor(anchor, FactorKind::kHeading,
+              DualAntennaFactor::Create(heading, p_imu_main, p_imu_aux, dR),
+              options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
+  }
+
+  struct RelativePose {
+    TimeNs t1_ns;
+    TimeNs t2_ns;
+    RelativePoseMeasurement m;
+    RobustKernel kernel;
+  };
+  void AttachRelativePose(Node& a, const RelativePose& r) {
+    // The state after a, when it is not after t2, carries t2 (neighbouring states only).
+    Node* b = nullptr;
+    for (std::size_t k = 0; k + 1 < states.size(); ++k) {
+      if (states[k].get() == &a) {
+        if (states[k + 1]->t_ns <= r.t2_ns) b = states[k + 1].get();
+        break;
+      }
+    }
+    ceres::LossFunction* loss = r.kernel.MakeLossFunction().release();
+    if (b == nullptr) {
+      AddFactor(a, FactorKind::kRelativePose,
+                CreateRelativePoseFactorOneAnchor(r.m, Preintegrate(a, r.t1_ns),
+                                                  Preintegrate(a, r.t2_ns)),
+                loss, a.Blocks());
+      return;
+    }
+    std::vector<double*> blocks = a.Blocks();
+    for (double* block : b->Blocks()) blocks.push_back(block);
+    AddFactor(a, FactorKind::kRelativePose,
+              CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns)),
+              loss, std::move(blocks));
+  }
+
+  // Raw gyro at t_ns, linearly interpolated in the buffer (which covers the window).
+  Vec3 GyroAt(TimeNs t_ns) const {
+    auto it = std::lower_bound(imu.begin(), imu.end(), t_ns,
+                               [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
+    if (it == imu.end()) return imu.back().gyro;
+    if (it->header.stamp_ns == t_ns || it == imu.begin()) return it->gyro;
+    return InterpolateImuSample(*std::prev(it), *it, t_ns).gyro;
+  }
+
+  void AttachVelocity(Node& a, TimeNs t_ns, BodyVelocityMeasurement m, const RobustKernel& kernel) {
+    m.gyro_raw = GyroAt(t_ns);
+    AddFactor(a, FactorKind::kVelocity, CreateBodyVelocityFactor(m, Preintegrate(a, t_ns)),
+              kernel.MakeLossFunction().release(),
+              {a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()});
+  }
+
+  // A factor at its anchor now, or pending until the IMU reaches ready_ns; kTooOld (and
+  // nothing added) when anchor_ns is before the window.
+  AddResult Add(Pending p) {
+    Node* anchor = Anchor(p.anchor_ns);
+    if (anchor == nullptr) return AddResult::kTooOld;
+    if (p.ready_ns > imu.back().header.stamp_ns) {
+      pending.push_back(std::move(p));
+      return AddResult::kPending;
+    }
+    p.attach(*anchor);
+    return AddResult::kAdded;
+  }
+
+  // Attaches the pending factors the IMU has reached (or drops those that fell out), kind by
+  // kind in a fixed order.
+  void FlushPending() {
+    const TimeNs newest = imu.back().header.stamp_ns;
+    for (FactorKind kind : {FactorKind::kGnss, FactorKind::kHeading, FactorKind::kVelocity,
+                            FactorKind::kRelativePose}) {
+      std::erase_if(pending, [&](const Pending& p) {
+        if (p.kind != kind || p.ready_ns > newest) return false;
+        if (Node* anchor = Anchor(p.anchor_ns)) {
+          p.attach(*anchor);
+        } else {
+          ++num_dropped;  // the window moved past it while it waited
+        }
+        return true;
+      });
+    }
+  }
+
+  // The parameter blocks of neighbouring states in the order of their factors' Jacobians.
+  BlockLayout Layout(std::initializer_list<Node*> nodes) const {
+    BlockLayout layout;
+    for (Node* n : nodes) {
+      const auto blocks = n->Blocks();
+      layout.Add(blocks[0], 4, &manifold);
+      layout.Add(blocks[1], 3, nullptr);
+      layout.Add(blocks[2], 3, nullptr);
+      layout.Add(blocks[3], 6, nullptr);
+    }
+    return layout;
+  }
+
+  void MarginalizeOldest() {
+    Node& old = *states[0];
+    Node& next = *states[1];
+    const BlockLayout layout = Layout({&old, &next});
+    std::vector<const FactorRecord*> records;
+    for (const Factor& f : old.factors) records.push_back(&f.record);
+    LinearSystem system;
+    Linearize(records, layout, &system);
+    const LinearSystem kept = SchurComplement(system, 15);
+
+    auto* prior = new MarginalizationPrior(next.x, kept.H, kept.g);
+    AddFactor(next, FactorKind::kPrior, prior, nullptr, next.Blocks());
+    for (double* block : old.Blocks()) problem.RemoveParameterBlock(block);  // and its factors
+    marginalized.push_back(old.State());
+    states.pop_front();
+    const TimeNs t_oldest = states.front()->t_ns;
+    // Keep the samples before the oldest state that preintegration from it uses as context
+    // for its cubic interpolant (ImuPreintegration::FromSamples).
+    auto first_kept =
+        std::lower_bound(imu.begin(), imu.end(), t_oldest,
+                         [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
+    first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples, first_kept - imu.begin());
+    imu.erase(imu.begin(), first_kept);
+  }
+
+  Mat15 NewestInformation() const {
+    Mat15 carried = Mat15::Zero();
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      Node& n = *states[k];
+      const bool last = k + 1 == states.size();
+      const BlockLayout layout = last ? Layout({&n}) : Layout({&n, states[k + 1].get()});
+      std::vector<const FactorRecord*> records;
+      for (const Factor& f : n.factors) records.push_back(&f.record);
+      LinearSystem system;
+      Linearize(records, layout, &system);
+      system.H.topLeftCorner<15, 15>() += carried;
+      if (last) return system.H;
+      carried = SchurComplement(system, 15).H;
+    }
+    return carried;
+  }
+};
+
+}  // namespace statebench::est
