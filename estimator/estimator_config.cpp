@@ -11,13 +11,14 @@
 namespace statebench::est {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, SensorKind>, 6> kKinds = {{
+constexpr std::array<std::pair<std::string_view, SensorKind>, 7> kKinds = {{
     {"imu", SensorKind::kImu},
     {"gnss", SensorKind::kGnss},
     {"wheel_encoders", SensorKind::kWheelEncoders},
     {"speed_encoder", SensorKind::kSpeedEncoder},
     {"steering_encoder", SensorKind::kSteeringEncoder},
     {"lidar", SensorKind::kLidar},
+    {"body_velocity", SensorKind::kBodyVelocity},
 }};
 
 SensorKind ParseKind(const YamlNode& node) {
@@ -25,9 +26,9 @@ SensorKind ParseKind(const YamlNode& node) {
   for (const auto& [n, kind] : kKinds) {
     if (n == name) return kind;
   }
-  node.Fail("unknown sensor type '" + name +
-            "' (expected one of: imu, gnss, wheel_encoders, speed_encoder, steering_encoder, "
-            "lidar)");
+  std::string names;
+  for (const auto& [n, kind] : kKinds) names += (names.empty() ? "" : ", ") + std::string(n);
+  node.Fail("unknown sensor type '" + name + "' (expected one of: " + names + ")");
 }
 
 double Positive(const YamlNode& node) {

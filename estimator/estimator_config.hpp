@@ -28,7 +28,15 @@
 
 namespace statebench::est {
 
-enum class SensorKind { kImu, kGnss, kWheelEncoders, kSpeedEncoder, kSteeringEncoder, kLidar };
+enum class SensorKind {
+  kImu,
+  kGnss,
+  kWheelEncoders,
+  kSpeedEncoder,
+  kSteeringEncoder,
+  kLidar,
+  kBodyVelocity,  // generic velocity odometry (wheel odometry, radar...) of the sensor frame
+};
 
 struct EstimatorSensor {
   std::string id;

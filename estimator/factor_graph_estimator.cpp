@@ -6,12 +6,9 @@
 #include <chrono>
 
 #include "core/error.hpp"
-#include "estimator/encoder_front_end.hpp"
 #include "estimator/factor_plan.hpp"
-#include "estimator/gnss_front_end.hpp"
-#include "estimator/lidar_front_end.hpp"
+#include "estimator/front_end_set.hpp"
 #include "estimator/measurement_intake.hpp"
-#include "estimator/motion_constraint_front_end.hpp"
 #include "estimator/solve_diagnostics.hpp"
 #include "estimator/state_estimate.hpp"
 
@@ -25,22 +22,17 @@ struct FactorGraphEstimator::Impl {
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
             setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
         intake(setup, FromSeconds(o.ReorderLatency(setup))),
-        gnss(setup, options, ctx),
-        encoders(setup, plan, options, ctx),
-        motion(setup, plan, options, encoders, ctx),
-        lidar(setup, plan, options, ctx),
-        front_ends{&encoders, &motion, &lidar, &gnss} {}
+        front_end_set(MakeFrontEnds(setup, plan, options, ctx)) {
+    for (const auto& f : front_end_set.all) front_ends.push_back(f.get());
+  }
 
   EstimatorSensorSetup setup;  // the estimator's own copy: the plan and front ends point into it
   FactorGraphOptions options;
   FactorPlan plan;
   FrontEndContext ctx;
   MeasurementIntake intake;
-  GnssFrontEnd gnss;
-  EncoderFrontEnd encoders;
-  MotionConstraintFrontEnd motion;
-  LidarFrontEnd lidar;
-  std::vector<MeasurementFrontEnd*> front_ends;  // a new measurement kind registers here
+  FrontEndSet front_end_set;  // a new measurement kind is a new front end there
+  std::vector<MeasurementFrontEnd*> front_ends;
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
   TimeNs next_solve_ns = 0;
@@ -176,7 +168,7 @@ void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(meas
 
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   const std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
-  const std::optional<LocalEnuFrame>& frame = impl_->gnss.frame();
+  const std::optional<LocalEnuFrame>& frame = impl_->front_end_set.gnss->frame();
   if (!p || !frame) return std::nullopt;
   return ToStateEstimate(*p, *frame);
 }
@@ -190,7 +182,7 @@ std::vector<NavState> FactorGraphEstimator::TakeSmoothedStates() {
 }
 
 std::optional<GeodeticPoint> FactorGraphEstimator::origin() const {
-  const std::optional<LocalEnuFrame>& frame = impl_->gnss.frame();
+  const std::optional<LocalEnuFrame>& frame = impl_->front_end_set.gnss->frame();
   if (!frame) return std::nullopt;
   return frame->origin();
 }

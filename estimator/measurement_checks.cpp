@@ -57,6 +57,17 @@ std::optional<RejectReason> CheckSteeringAngle(const SteeringAngle& angle) {
   return std::nullopt;
 }
 
+std::optional<RejectReason> CheckBodyVelocity(const BodyVelocity& v) {
+  if (!v.velocity.allFinite() || !v.angular_velocity.allFinite() || !v.covariance.allFinite()) {
+    return RejectReason::kNonFinite;
+  }
+  if (v.velocity.norm() > 100.0) return RejectReason::kAbsurdValue;
+  if ((v.covariance.diagonal().head<3>().array() <= 0.0).any()) {
+    return RejectReason::kInvalidCovariance;
+  }
+  return std::nullopt;
+}
+
 std::optional<RejectReason> CheckLidarScan(const LidarScan& scan) {
   if (scan.points == nullptr) return RejectReason::kAbsurdValue;
   return std::nullopt;

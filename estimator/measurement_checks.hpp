@@ -32,4 +32,8 @@ std::optional<RejectReason> CheckSteeringAngle(const SteeringAngle& angle);
 // count: they are rejected there with the detail.
 std::optional<RejectReason> CheckLidarScan(const LidarScan& scan);
 
+// Non-finite velocity or covariance; faster than 100 m/s (absurd); a velocity variance that is
+// negative or zero (invalid covariance: an unmeasured component has a large variance).
+std::optional<RejectReason> CheckBodyVelocity(const BodyVelocity& velocity);
+
 }  // namespace statebench::est

@@ -28,6 +28,9 @@ struct ValueCheck {
     return CheckSteeringAngle(m);
   }
   std::optional<RejectReason> operator()(const LidarScan& m) const { return CheckLidarScan(m); }
+  std::optional<RejectReason> operator()(const BodyVelocity& m) const {
+    return CheckBodyVelocity(m);
+  }
   template <typename M>
   std::optional<RejectReason> operator()(const M&) const {
     return std::nullopt;

@@ -1,0 +1,25 @@
+#include "estimator/front_end_set.hpp"
+
+#include "estimator/body_velocity_front_end.hpp"
+#include "estimator/encoder_front_end.hpp"
+#include "estimator/lidar_front_end.hpp"
+#include "estimator/motion_constraint_front_end.hpp"
+
+namespace statebench::est {
+
+FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+                          const FactorGraphOptions& options, FrontEndContext& ctx) {
+  FrontEndSet set;
+  auto encoders = std::make_unique<EncoderFrontEnd>(setup, plan, options, ctx);
+  auto motion = std::make_unique<MotionConstraintFrontEnd>(setup, plan, options, *encoders, ctx);
+  auto gnss = std::make_unique<GnssFrontEnd>(setup, options, ctx);
+  set.gnss = gnss.get();
+  set.all.push_back(std::move(encoders));
+  set.all.push_back(std::move(motion));
+  set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx));
+  set.all.push_back(std::move(gnss));
+  set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, ctx));
+  return set;
+}
+
+}  // namespace statebench::est
