@@ -6,137 +6,95 @@ namespace statebench::est {
 
 namespace {
 
-bool Fails(bool ok, const char* field, std::string* why) {
-  if (!ok && why != nullptr) *why = field;
-  return !ok;
-}
-
 bool Positive(double v) { return std::isfinite(v) && v > 0.0; }
 
 }  // namespace
 
+const OptionTable<SingleTrackParams>& SingleTrackParamsTable() {
+  static const OptionTable<SingleTrackParams> table = [] {
+    using S = SingleTrackParams;
+    const OptionRange p = OptionRange::Positive();
+    OptionTable<S> t("vehicle");
+    t.Number("mass_kg", &S::mass_kg, p, "mass")
+        .Number("yaw_inertia_kgm2", &S::yaw_inertia_kgm2, p, "yaw moment of inertia")
+        .Number("cg_to_front_axle_m", &S::cg_to_front_axle_m, p, "lf")
+        .Number("cg_to_rear_axle_m", &S::cg_to_rear_axle_m, p, "lr")
+        .Number("cornering_stiffness_front_npr", &S::cornering_stiffness_front_npr, p,
+                "N/rad, front axle")
+        .Number("cornering_stiffness_rear_npr", &S::cornering_stiffness_rear_npr, p,
+                "N/rad, rear axle")
+        .Number("rear_steering_ratio", &S::rear_steering_ratio, OptionRange::Closed(-1.0, 1.0),
+                "rear road-wheel angle = -ratio x front angle");
+    return t;
+  }();
+  return table;
+}
+
+const OptionTable<EkfOptions>& EkfOptionTable() {
+  static const OptionTable<EkfOptions> table = [] {
+    using E = EkfOptions;
+    const OptionRange p = OptionRange::Positive();
+    OptionTable<E> t("ekf options");
+    t.Number("blend_low_speed_mps", &E::blend_low_speed_mps, p, "below: kinematic bicycle model")
+        .Number("blend_high_speed_mps", &E::blend_high_speed_mps, p,
+                "above: dynamic single-track model (linear blend between)")
+        .Number("kinematic_time_constant_s", &E::kinematic_time_constant_s, p,
+                "vy and r relax to the kinematic values at this rate")
+        .Number("accel_noise_density", &E::accel_noise_density, p,
+                "m/s^2/sqrt(Hz), longitudinal acceleration input")
+        .Number("lateral_model_density", &E::lateral_model_density, p,
+                "m/s^2/sqrt(Hz), single-track vy model error")
+        .Number("yaw_accel_density", &E::yaw_accel_density, p,
+                "rad/s^2/sqrt(Hz), single-track r model error")
+        .Number("position_density", &E::position_density, p,
+                "m/sqrt(s), position random walk for what the planar model misses")
+        .Number("gyro_bias_walk", &E::gyro_bias_walk, p, "rad/s^2/sqrt(Hz)")
+        .Number("accel_bias_walk", &E::accel_bias_walk, p, "m/s^3/sqrt(Hz)")
+        .Number("altitude_density", &E::altitude_density, p, "m/sqrt(s), altitude random walk")
+        .Number("gyro_sigma_radps", &E::gyro_sigma_radps, p, "yaw-rate noise per IMU sample")
+        .Number("speed_sigma_mps", &E::speed_sigma_mps, p, "speed encoder noise")
+        .Number("course_min_distance_m", &E::course_min_distance_m, p,
+                "GNSS displacement of the course initialisation")
+        .Number("course_max_yaw_sigma_rad", &E::course_max_yaw_sigma_rad, p,
+                "wait for this GNSS course precision")
+        .Number("init_yaw_sigma_rad", &E::init_yaw_sigma_rad, p, "added to the course sigma")
+        .Number("init_speed_sigma_mps", &E::init_speed_sigma_mps, p, "initial speed sigma")
+        .Number("init_gyro_bias_sigma_radps", &E::init_gyro_bias_sigma_radps, p, "prior")
+        .Number("init_accel_bias_sigma_mps2", &E::init_accel_bias_sigma_mps2, p, "prior")
+        .Number("roll_pitch_sigma_rad", &E::roll_pitch_sigma_rad, p, "reported, not estimated")
+        .Number("vertical_velocity_sigma_mps", &E::vertical_velocity_sigma_mps, p,
+                "reported, not estimated")
+        .Number("gnss_max_sigma_m", &E::gnss_max_sigma_m, p, "reported GNSS sigma threshold")
+        .Number("gnss_gate_chi2", &E::gnss_gate_chi2, p, "2 dof (horizontal)")
+        .Number("speed_gate_chi2", &E::speed_gate_chi2, p, "1 dof")
+        .Number("heading_max_sigma_rad", &E::heading_max_sigma_rad, p,
+                "dual-antenna heading threshold")
+        .Number("heading_gate_chi2", &E::heading_gate_chi2, p, "1 dof")
+        .Number("gate_reset_s", &E::gate_reset_s, p, "a gate opens after this many s of rejections")
+        .Number("max_delay_s", &E::max_delay_s, p, "older measurements are too old")
+        .Number("history_s", &E::history_s, p, "StateAt() serves stamps this far back")
+        .AddRule([](const E& o) -> std::optional<std::pair<std::string, std::string>> {
+          if (o.blend_high_speed_mps > o.blend_low_speed_mps) return std::nullopt;
+          return std::make_pair(std::string("blend_high_speed_mps"),
+                                std::string("must exceed blend_low_speed_mps"));
+        });
+    return t;
+  }();
+  return table;
+}
+
 bool SingleTrackParams::IsValid(std::string* why) const {
-  if (Fails(Positive(mass_kg), "mass_kg", why)) return false;
-  if (Fails(Positive(yaw_inertia_kgm2), "yaw_inertia_kgm2", why)) return false;
-  if (Fails(Positive(cg_to_front_axle_m), "cg_to_front_axle_m", why)) return false;
-  if (Fails(Positive(cg_to_rear_axle_m), "cg_to_rear_axle_m", why)) return false;
-  if (Fails(Positive(cornering_stiffness_front_npr), "cornering_stiffness_front_npr", why)) {
-    return false;
-  }
-  if (Fails(Positive(cornering_stiffness_rear_npr), "cornering_stiffness_rear_npr", why)) {
-    return false;
-  }
-  if (Fails(std::isfinite(rear_steering_ratio) && std::abs(rear_steering_ratio) <= 1.0,
-            "rear_steering_ratio", why)) {
-    return false;
-  }
-  return true;
+  return SingleTrackParamsTable().IsValid(*this, why);
 }
 
 bool EkfOptions::IsValid(std::string* why) const {
-  std::string vehicle_why;
-  if (!vehicle.IsValid(&vehicle_why)) {
-    if (why != nullptr) *why = "vehicle." + vehicle_why;
-    return false;
-  }
-  const std::pair<double, const char*> positive[] = {
-      {blend_low_speed_mps, "blend_low_speed_mps"},
-      {kinematic_time_constant_s, "kinematic_time_constant_s"},
-      {accel_noise_density, "accel_noise_density"},
-      {lateral_model_density, "lateral_model_density"},
-      {yaw_accel_density, "yaw_accel_density"},
-      {position_density, "position_density"},
-      {gyro_bias_walk, "gyro_bias_walk"},
-      {accel_bias_walk, "accel_bias_walk"},
-      {altitude_density, "altitude_density"},
-      {gyro_sigma_radps, "gyro_sigma_radps"},
-      {speed_sigma_mps, "speed_sigma_mps"},
-      {course_min_distance_m, "course_min_distance_m"},
-      {course_max_yaw_sigma_rad, "course_max_yaw_sigma_rad"},
-      {init_yaw_sigma_rad, "init_yaw_sigma_rad"},
-      {init_speed_sigma_mps, "init_speed_sigma_mps"},
-      {init_gyro_bias_sigma_radps, "init_gyro_bias_sigma_radps"},
-      {init_accel_bias_sigma_mps2, "init_accel_bias_sigma_mps2"},
-      {roll_pitch_sigma_rad, "roll_pitch_sigma_rad"},
-      {vertical_velocity_sigma_mps, "vertical_velocity_sigma_mps"},
-      {gnss_max_sigma_m, "gnss_max_sigma_m"},
-      {gnss_gate_chi2, "gnss_gate_chi2"},
-      {speed_gate_chi2, "speed_gate_chi2"},
-      {heading_max_sigma_rad, "heading_max_sigma_rad"},
-      {heading_gate_chi2, "heading_gate_chi2"},
-      {gate_reset_s, "gate_reset_s"},
-      {max_delay_s, "max_delay_s"},
-      {history_s, "history_s"},
-  };
-  for (const auto& [value, field] : positive) {
-    if (Fails(Positive(value), field, why)) return false;
-  }
-  if (Fails(blend_high_speed_mps > blend_low_speed_mps && std::isfinite(blend_high_speed_mps),
-            "blend_high_speed_mps", why)) {
-    return false;
-  }
-  return true;
+  return SingleTrackParamsTable().IsValid(vehicle, why) && EkfOptionTable().IsValid(*this, why);
 }
-
-namespace {
-
-// Field name -> member, for the YAML parser.
-struct EkfField {
-  const char* name;
-  double EkfOptions::*member;
-};
-
-constexpr EkfField kEkfFields[] = {
-    {"blend_low_speed_mps", &EkfOptions::blend_low_speed_mps},
-    {"blend_high_speed_mps", &EkfOptions::blend_high_speed_mps},
-    {"kinematic_time_constant_s", &EkfOptions::kinematic_time_constant_s},
-    {"accel_noise_density", &EkfOptions::accel_noise_density},
-    {"lateral_model_density", &EkfOptions::lateral_model_density},
-    {"yaw_accel_density", &EkfOptions::yaw_accel_density},
-    {"position_density", &EkfOptions::position_density},
-    {"gyro_bias_walk", &EkfOptions::gyro_bias_walk},
-    {"accel_bias_walk", &EkfOptions::accel_bias_walk},
-    {"altitude_density", &EkfOptions::altitude_density},
-    {"gyro_sigma_radps", &EkfOptions::gyro_sigma_radps},
-    {"speed_sigma_mps", &EkfOptions::speed_sigma_mps},
-    {"course_min_distance_m", &EkfOptions::course_min_distance_m},
-    {"course_max_yaw_sigma_rad", &EkfOptions::course_max_yaw_sigma_rad},
-    {"init_yaw_sigma_rad", &EkfOptions::init_yaw_sigma_rad},
-    {"init_speed_sigma_mps", &EkfOptions::init_speed_sigma_mps},
-    {"init_gyro_bias_sigma_radps", &EkfOptions::init_gyro_bias_sigma_radps},
-    {"init_accel_bias_sigma_mps2", &EkfOptions::init_accel_bias_sigma_mps2},
-    {"roll_pitch_sigma_rad", &EkfOptions::roll_pitch_sigma_rad},
-    {"vertical_velocity_sigma_mps", &EkfOptions::vertical_velocity_sigma_mps},
-    {"gnss_max_sigma_m", &EkfOptions::gnss_max_sigma_m},
-    {"gnss_gate_chi2", &EkfOptions::gnss_gate_chi2},
-    {"speed_gate_chi2", &EkfOptions::speed_gate_chi2},
-    {"heading_max_sigma_rad", &EkfOptions::heading_max_sigma_rad},
-    {"heading_gate_chi2", &EkfOptions::heading_gate_chi2},
-    {"gate_reset_s", &EkfOptions::gate_reset_s},
-    {"max_delay_s", &EkfOptions::max_delay_s},
-    {"history_s", &EkfOptions::history_s},
-};
-
-}  // namespace
 
 EkfOptions ParseEkfOptions(const YamlNode& root) {
   EkfOptions options;
   if (root.IsNull()) return options;
-  root.ExpectMap();
-  for (const std::string& key : root.Keys()) {
-    const EkfField* field = nullptr;
-    for (const EkfField& f : kEkfFields) {
-      if (key == f.name) field = &f;
-    }
-    if (field == nullptr) root[key].Fail("unknown key");
-    options.*(field->member) = root[key].As<double>();
-  }
-  std::string why;
-  if (!options.IsValid(&why)) {
-    const auto node = root.Find(why);
-    if (node) node->Fail("invalid value");
-    root.Fail("invalid combination of values ('" + why + "')");
-  }
+  EkfOptionTable().Read(root, &options);
   return options;
 }
 

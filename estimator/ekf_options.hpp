@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/option_table.hpp"
 #include "core/yaml_node.hpp"
 
 namespace statebench::est {
@@ -76,6 +77,9 @@ struct EkfOptions {
 // keys and invalid values are InputErrors naming file:line and field). The vehicle comes from the
 // vehicle file (LoadSingleTrackParams).
 EkfOptions LoadEkfOptions(const std::filesystem::path& path);
+// The tables behind the parser, the validation and the docs' option table.
+const OptionTable<EkfOptions>& EkfOptionTable();
+const OptionTable<SingleTrackParams>& SingleTrackParamsTable();
 EkfOptions ParseEkfOptions(const YamlNode& root);
 
 // Reads the vehicle parameters of a vehicle file (scenarios/vehicles/*.yaml); missing required

@@ -94,7 +94,7 @@ struct EkfSingleTrackEstimator::Impl {
 
   Impl(const EstimatorSensorSetup& s, const EkfOptions& o) : setup(s), options(o) {
     std::string why;
-    if (!options.IsValid(&why)) throw InputError("ekf options: invalid field '" + why + "'");
+    if (!options.IsValid(&why)) throw InputError(why);
     R_body_imu = setup.T_body_imu.rotation().toRotationMatrix();
     p_body_imu = setup.T_body_imu.translation();
     for (const EstimatorSensor& sensor : setup.sensors) {

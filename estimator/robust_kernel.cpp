@@ -22,4 +22,16 @@ RobustKernelType ParseRobustKernelType(const std::string& name) {
   throw InputError("robust kernel: unknown type '" + name + "' (none, huber, cauchy)");
 }
 
+const char* RobustKernelTypeName(RobustKernelType type) {
+  switch (type) {
+    case RobustKernelType::kNone:
+      return "none";
+    case RobustKernelType::kHuber:
+      return "huber";
+    case RobustKernelType::kCauchy:
+      return "cauchy";
+  }
+  return "?";
+}
+
 }  // namespace statebench::est

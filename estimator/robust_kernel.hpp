@@ -24,5 +24,6 @@ struct RobustKernel {
 
 // "none", "huber" or "cauchy"; InputError naming the value otherwise.
 RobustKernelType ParseRobustKernelType(const std::string& name);
+const char* RobustKernelTypeName(RobustKernelType type);
 
 }  // namespace statebench::est

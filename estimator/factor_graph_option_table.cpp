@@ -1,0 +1,278 @@
+#include "estimator/factor_graph_option_table.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace statebench::est {
+namespace {
+
+using Range = OptionRange;
+
+std::string ShowNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+OptionTable<RobustKernel> KernelTable() {
+  OptionTable<RobustKernel> t("robust kernel");
+  t.Custom(
+       "type",
+       [](const YamlNode& n, RobustKernel* k) {
+         try {
+           k->type = ParseRobustKernelType(n.As<std::string>());
+         } catch (const InputError& e) {
+           n.Fail(e.what());
+         }
+       },
+       [](const RobustKernel& k) { return std::string(RobustKernelTypeName(k.type)); },
+       "none, huber, cauchy", "robust loss on the whitened residual")
+      .Number("scale", &RobustKernel::scale, Range::Positive(),
+              "sigmas at which the kernel starts to down-weight");
+  return t;
+}
+
+OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char* unit) {
+  OptionTable<MeasurementGateOptions> t("gate");
+  t.Number(sigma_key, &MeasurementGateOptions::max_sigma, Range::Positive(),
+           std::string("discard above this reported sigma (") + unit +
+               ", sqrt of the largest covariance eigenvalue; paper)")
+      .Number("gate_chi2", &MeasurementGateOptions::gate_chi2, Range::Positive(),
+              "Mahalanobis gate on the innovation (chi-square)")
+      .Number("gate_reset_s", &MeasurementGateOptions::gate_reset_s, Range::Positive(),
+              "after this long with only rejections, the next one passes")
+      .Section("robust_kernel", &MeasurementGateOptions::kernel, KernelTable(),
+               "robust loss of the factor");
+  return t;
+}
+
+OptionTable<InitializationOptions> InitializationTable() {
+  using I = InitializationOptions;
+  OptionTable<I> t("initialization");
+  t.Custom(
+      "mode",
+      [](const YamlNode& n, I* o) {
+        const std::string m = n.As<std::string>();
+        if (m == "auto") {
+          o->mode = InitializationMode::kAuto;
+        } else if (m == "static") {
+          o->mode = InitializationMode::kStatic;
+        } else if (m == "moving") {
+          o->mode = InitializationMode::kMoving;
+        } else {
+          n.Fail("unknown mode '" + m + "' (expected auto, static or moving)");
+        }
+      },
+      [](const I& o) {
+        return std::string(o.mode == InitializationMode::kAuto     ? "auto"
+                           : o.mode == InitializationMode::kStatic ? "static"
+                                                                   : "moving");
+      },
+      "auto, static, moving", "wait for a still period, or start while moving, or either");
+  const Range p = Range::Positive();
+  t.Number("static_duration_s", &I::static_duration_s, p, "still period averaged")
+      .Number("static_max_gyro_std_radps", &I::static_max_gyro_std_radps, p,
+              "still if the gyro std per axis is below")
+      .Number("static_max_accel_std_mps2", &I::static_max_accel_std_mps2, p,
+              "still if the accel std per axis is below")
+      .Number("course_min_distance_m", &I::course_min_distance_m, p,
+              "GNSS displacement that defines the course")
+      .Number("roll_pitch_sigma_rad", &I::roll_pitch_sigma_rad, p, "prior, static alignment")
+      .Number("moving_roll_pitch_sigma_rad", &I::moving_roll_pitch_sigma_rad, p,
+              "prior, moving start")
+      .Number("course_yaw_sigma_rad", &I::course_yaw_sigma_rad, p, "prior of a course yaw")
+      .Number("static_velocity_sigma_mps", &I::static_velocity_sigma_mps, p, "prior, still")
+      .Number("moving_velocity_sigma_mps", &I::moving_velocity_sigma_mps, p, "prior, moving")
+      .Number("gyro_bias_sigma_radps", &I::gyro_bias_sigma_radps, p,
+              "prior when no still period measured it")
+      .Number("accel_bias_sigma_mps2", &I::accel_bias_sigma_mps2, p, "prior");
+  return t;
+}
+
+void ReadUse(const YamlNode& n, FactorUse* use) {
+  try {
+    *use = ParseFactorUse(n.As<std::string>());
+  } catch (const InputError& e) {
+    n.Fail(e.what());
+  }
+}
+
+OptionTable<LidarFactorOptions> LidarTable() {
+  using L = LidarFactorOptions;
+  const auto odometry = [](auto member) {
+    return [member](L & o) -> auto& { return o.odometry.*member; };
+  };
+  OptionTable<L> t("lidar");
+  t.Custom(
+       "enabled", [](const YamlNode& n, L* o) { ReadUse(n, &o->use); },
+       [](const L& o) { return std::string(FactorUseName(o.use)); }, "auto, true, false",
+       "lidar odometry factors (auto: when the setup has a lidar)")
+      .Number("min_range_m", odometry(&LidarOdometryOptions::min_range_m), Range::NonNegative(),
+              "points closer are dropped")
+      .Number("max_range_m", odometry(&LidarOdometryOptions::max_range_m), Range::Positive(),
+              "points farther are dropped")
+      .Number("voxel_size_m", odometry(&LidarOdometryOptions::voxel_size_m), Range::Positive(),
+              "map voxel")
+      .Integer("max_points_per_voxel", odometry(&LidarOdometryOptions::max_points_per_voxel), 1,
+               "map points kept per voxel")
+      .Number("covariance_scale", &L::covariance_scale, Range::Positive(),
+              "factor covariance = ICP covariance x this")
+      .Number("min_sigma_translation_m", &L::min_sigma_translation_m, Range::Positive(),
+              "floor per axis, per scan period")
+      .Number("min_sigma_rotation_rad", &L::min_sigma_rotation_rad, Range::Positive(),
+              "floor per axis, per scan period")
+      .Section("robust_kernel", &L::kernel, KernelTable(), "robust loss of the factor")
+      .Number("max_prior_deviation_m", &L::max_prior_deviation_m, Range::Positive(),
+              "reject a registration this far from the IMU prediction")
+      .AddRule([](const L& o) -> std::optional<std::pair<std::string, std::string>> {
+        if (o.odometry.max_range_m > o.odometry.min_range_m) return std::nullopt;
+        return std::make_pair(std::string("max_range_m"), std::string("must exceed min_range_m"));
+      });
+  return t;
+}
+
+OptionTable<KinematicFactorOptions> KinematicTable() {
+  using K = KinematicFactorOptions;
+  const Range p = Range::Positive(), nn = Range::NonNegative();
+  OptionTable<K> t("kinematic");
+  t.Custom(
+       "enabled", [](const YamlNode& n, K* o) { ReadUse(n, &o->use); },
+       [](const K& o) { return std::string(FactorUseName(o.use)); }, "auto, true, false",
+       "kinematic factor from the speed and steering encoders")
+      .Number("period_s", &K::period_s, p, "one factor per period")
+      .Number("speed_sigma_mps", &K::speed_sigma_mps, p, "white error of one speed sample")
+      .Number("speed_scale_sigma", &K::speed_scale_sigma, nn, "relative scale error per period")
+      .Number("steering_sigma_rad", &K::steering_sigma_rad, p, "steering offset and noise")
+      .Number("lateral_sigma_mps", &K::lateral_sigma_mps, p, "side slip the model ignores")
+      .Number("slip_per_lateral_accel", &K::slip_per_lateral_accel, nn,
+              "rad of slip per m/s^2 of lateral acceleration")
+      .Number("vertical_sigma_mps", &K::vertical_sigma_mps, p, "motion off the axle plane")
+      .Number("rear_steering_ratio", &K::rear_steering_ratio, nn,
+              "4-wheel steering: rear angle = -ratio x front")
+      .Number("max_gap_s", &K::max_gap_s, p, "encoder gap that breaks the integration");
+  return t;
+}
+
+OptionTable<NonHolonomicOptions> NonHolonomicTable() {
+  using N = NonHolonomicOptions;
+  OptionTable<N> t("non_holonomic");
+  t.Flag("enabled", &N::enabled, "no sideways or vertical velocity of the rear axle")
+      .Number("rate_hz", &N::rate_hz, Range::Positive(), "factors per second")
+      .Number("slip_per_lateral_accel", &N::slip_per_lateral_accel, Range::NonNegative(),
+              "lateral sigma grows by |v| x this x |v omega_z|")
+      .Number("lateral_sigma_mps", &N::lateral_sigma_mps, Range::Positive(), "lateral sigma")
+      .Number("vertical_sigma_mps", &N::vertical_sigma_mps, Range::Positive(), "vertical sigma");
+  return t;
+}
+
+OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
+  using Z = ZeroVelocityOptions;
+  const Range p = Range::Positive();
+  OptionTable<Z> t("zero_velocity");
+  t.Flag("enabled", &Z::enabled, "zero-velocity factor at standstill")
+      .Number("rate_hz", &Z::rate_hz, p, "factors per second")
+      .Number("window_s", &Z::window_s, p, "IMU window of the standstill test")
+      .Number("max_gyro_std_radps", &Z::max_gyro_std_radps, p, "quiet gyro, per axis")
+      .Number("max_accel_std_mps2", &Z::max_accel_std_mps2, p, "quiet accelerometer, per axis")
+      .Number("max_encoder_speed_mps", &Z::max_encoder_speed_mps, p, "encoder reads zero")
+      .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
+              "without an encoder: estimated speed below")
+      .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor");
+  return t;
+}
+
+OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
+  using F = FactorGraphOptions;
+  OptionTable<F> t("factor graph options");
+  t.Ignored("name").Ignored("description");
+  t.Number("window_s", &F::window_s, Range::Positive(), "fixed-lag window")
+      .Integer("imu_samples_per_state", &F::imu_samples_per_state, 1,
+               "1: a state per IMU sample (paper); N: keyframes")
+      .Number("solve_interval_s", &F::solve_interval_s, Range::Positive(), "time between solves")
+      .Custom(
+          "reorder_latency_s",
+          [](const YamlNode& n, F* o) {
+            if (n.IsScalar() && n.raw().as<std::string>() == "auto") {
+              o->reorder_latency_s.reset();
+              return;
+            }
+            const double v = n.As<double>();
+            if (!Range::NonNegative().Contains(v)) n.Fail("must be >= 0 or auto");
+            o->reorder_latency_s = v;
+          },
+          [](const F& o) {
+            return o.reorder_latency_s ? ShowNumber(*o.reorder_latency_s) : std::string("auto");
+          },
+          "auto or >= 0", "hold measurements this long to feed them in stamp order")
+      .Integer("max_iterations", &F::max_iterations, 1, "Ceres iterations per solve")
+      .Integer("num_threads", &F::num_threads, 1, "Ceres threads")
+      .Custom(
+          "origin",
+          [](const YamlNode& n, F* o) {
+            n.ExpectMap();
+            n.ExpectOnlyKeys({"latitude_deg", "longitude_deg", "altitude_m"});
+            GeodeticPoint p;
+            p.latitude_deg = n.Get<double>("latitude_deg");
+            p.longitude_deg = n.Get<double>("longitude_deg");
+            p.altitude_m = n.Get<double>("altitude_m", 0.0);
+            if (!(std::abs(p.latitude_deg) <= 90.0)) n["latitude_deg"].Fail("must be in [-90, 90]");
+            if (!(std::abs(p.longitude_deg) <= 180.0)) {
+              n["longitude_deg"].Fail("must be in [-180, 180]");
+            }
+            o->origin = p;
+          },
+          [](const F& o) { return std::string(o.origin ? "given" : "first fix"); },
+          "{latitude_deg, longitude_deg, altitude_m}", "ENU origin")
+      .Section("imu_noise", &F::imu_noise, ImuNoiseOptionTable(),
+               "IMU noise (Kalibr units); a setup's imu entry may override it")
+      .Section("initialization", &F::initialization, InitializationTable(), "first state")
+      .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m"), "GNSS position factors")
+      .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),
+               "dual-antenna heading factors")
+      .Section("lidar", &F::lidar, LidarTable(), "lidar odometry factors")
+      .Section("kinematic", &F::kinematic, KinematicTable(), "encoder kinematic factor")
+      .Section("non_holonomic", &F::non_holonomic, NonHolonomicTable(), "non-holonomic constraint")
+      .Section("zero_velocity", &F::zero_velocity, ZeroVelocityTable(), "zero-velocity factor");
+  return t;
+}
+
+}  // namespace
+
+const OptionTable<ImuNoise>& ImuNoiseOptionTable() {
+  static const OptionTable<ImuNoise> table = [] {
+    OptionTable<ImuNoise> t("imu noise");
+    t.Number("gyro_noise_density", &ImuNoise::gyro_noise_density, Range::Positive(),
+             "rad/s/sqrt(Hz)")
+        .Number("accel_noise_density", &ImuNoise::accel_noise_density, Range::Positive(),
+                "m/s^2/sqrt(Hz)")
+        .Number("gyro_random_walk", &ImuNoise::gyro_random_walk, Range::Positive(),
+                "rad/s^2/sqrt(Hz)")
+        .Number("accel_random_walk", &ImuNoise::accel_random_walk, Range::Positive(),
+                "m/s^3/sqrt(Hz)")
+        .Number("integration_density", &ImuNoise::integration_density, Range::NonNegative(),
+                "m/sqrt(s), position integration error");
+    return t;
+  }();
+  return table;
+}
+
+const OptionTable<GnssAntenna>& GnssAntennaOptionTable() {
+  static const OptionTable<GnssAntenna> table = [] {
+    OptionTable<GnssAntenna> t("gnss antenna");
+    t.Number("covariance_scale", &GnssAntenna::covariance_scale, Range::Positive(),
+             "reported covariance x this")
+        .Number("min_sigma_m", &GnssAntenna::min_sigma_m, Range::NonNegative(),
+                "eigenvalues floored at this sigma");
+    return t;
+  }();
+  return table;
+}
+
+const OptionTable<FactorGraphOptions>& FactorGraphOptionTable() {
+  static const OptionTable<FactorGraphOptions> table = MakeFactorGraphTable();
+  return table;
+}
+
+}  // namespace statebench::est
