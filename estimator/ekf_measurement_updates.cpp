@@ -1,0 +1,190 @@
+// The EKF's propagation, measurement updates (gyro yaw rate, encoder speed, dual-antenna
+// heading, GNSS position with the lever arm) and its initialisation from the GNSS course.
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "estimator/ekf_filter_impl.hpp"
+
+namespace statebench::est {
+namespace {
+
+using namespace ekf;  // NOLINT: the state layout (kX, kPsi, ...) and the sensor roles
+
+Mat3 Rz(double psi) { return Eigen::AngleAxisd(psi, Vec3::UnitZ()).toRotationMatrix(); }
+
+}  // namespace
+
+void EkfSingleTrackEstimator::Impl::Propagate(TimeNs t_to_ns) {
+  if (t_to_ns <= t_ns) return;
+  const double total = ToSeconds(t_to_ns - t_ns);
+  const int steps = std::max(1, static_cast<int>(std::ceil(total / kMaxSubstepS)));
+  const double dt = total / steps;
+  VecN qc = VecN::Zero();
+  qc[kX] = qc[kY] = options.position_density * options.position_density;
+  qc[kVx] = options.accel_noise_density * options.accel_noise_density;
+  qc[kVy] = options.lateral_model_density * options.lateral_model_density;
+  qc[kR] = options.yaw_accel_density * options.yaw_accel_density;
+  qc[kBg] = options.gyro_bias_walk * options.gyro_bias_walk;
+  qc[kBa] = options.accel_bias_walk * options.accel_bias_walk;
+  for (int k = 0; k < steps; ++k) {
+    const MatN F = MatN::Identity() + model->DerivativeJacobian(x, accel_x, steering) * dt;
+    const VecN mid = x + 0.5 * dt * model->Derivative(x, accel_x, steering);
+    x += dt * model->Derivative(mid, accel_x, steering);
+    x[kPsi] = so3::WrapAngle(x[kPsi]);
+    P = F * P * F.transpose();
+    P.diagonal() += qc * dt;
+  }
+  Pz += options.altitude_density * options.altitude_density * total;
+  t_ns = t_to_ns;
+}
+
+void EkfSingleTrackEstimator::Impl::UpdateGyro(double gz_body) {
+  Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
+  H(0, kR) = 1.0;
+  H(0, kBg) = 1.0;
+  Eigen::Matrix<double, 1, 1> y(gz_body - x[kR] - x[kBg]);
+  Eigen::Matrix<double, 1, 1> R(options.gyro_sigma_radps * options.gyro_sigma_radps);
+  Update<1>(y, H, R);
+}
+
+void EkfSingleTrackEstimator::Impl::UpdateSpeed(const std::string& id, const SensorInfo& info,
+                                                const VehicleSpeed& m) {
+  Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
+  const double ly = info.p_body_sensor.y();
+  H(0, kVx) = 1.0;
+  H(0, kR) = -ly;
+  Eigen::Matrix<double, 1, 1> y(m.speed_mps - (x[kVx] - x[kR] * ly));
+  Eigen::Matrix<double, 1, 1> R(options.speed_sigma_mps * options.speed_sigma_mps);
+  const auto last = last_accepted_speed_ns.find(id);
+  if (!Gate(Mahalanobis<1>(y, H, R), options.speed_gate_chi2, m.header.stamp_ns,
+            last == last_accepted_speed_ns.end() ? diag.initialized_at_ns : last->second)) {
+    Reject(id, RejectReason::kMahalanobisGate);
+    return;
+  }
+  Update<1>(y, H, R);
+  last_accepted_speed_ns[id] = m.header.stamp_ns;
+  Accept(id, m.header.stamp_ns);
+}
+
+void EkfSingleTrackEstimator::Impl::UpdateHeading(const std::string& id, const SensorInfo& info,
+                                                  const DualAntennaHeading& m) {
+  Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
+  H(0, kPsi) = 1.0;
+  Eigen::Matrix<double, 1, 1> y(so3::WrapAngle(m.yaw_rad - (x[kPsi] + info.yaw_offset_rad) -
+                                               x[kR] * ToSeconds(m.header.stamp_ns - t_ns)));
+  Eigen::Matrix<double, 1, 1> R(m.yaw_sigma_rad * m.yaw_sigma_rad);
+  const auto last = last_accepted_heading_ns.find(id);
+  if (!Gate(Mahalanobis<1>(y, H, R), options.heading_gate_chi2, m.header.stamp_ns,
+            last == last_accepted_heading_ns.end() ? diag.initialized_at_ns : last->second)) {
+    Reject(id, RejectReason::kMahalanobisGate);
+    return;
+  }
+  Update<1>(y, H, R);
+  last_accepted_heading_ns[id] = m.header.stamp_ns;
+  Accept(id, m.header.stamp_ns);
+}
+
+void EkfSingleTrackEstimator::Impl::UpdateGnss(const std::string& id, const SensorInfo& info,
+                                               const GnssPositionEnu& fix) {
+  const auto start = std::chrono::steady_clock::now();
+  const Mat3 cov = AdjustedCovariance(fix.covariance, info);
+  // Lag: the fix is of stamp_ns <= t_ns; carry the prediction back by the current velocity.
+  const double lag = ToSeconds(t_ns - fix.header.stamp_ns);
+  const double c = std::cos(x[kPsi]), s = std::sin(x[kPsi]);
+  const Vec2 l = info.p_body_sensor.head<2>();
+  const Vec2 Rl(c * l.x() - s * l.y(), s * l.x() + c * l.y());
+  const Vec2 v_world(c * x[kVx] - s * x[kVy] - x[kR] * Rl.y(),
+                     s * x[kVx] + c * x[kVy] + x[kR] * Rl.x());
+  const Vec2 predicted = Vec2(x[kX], x[kY]) + Rl - v_world * lag;
+  Eigen::Matrix<double, 2, kN> H = Eigen::Matrix<double, 2, kN>::Zero();
+  H(0, kX) = 1.0;
+  H(1, kY) = 1.0;
+  H(0, kPsi) = -Rl.y();
+  H(1, kPsi) = Rl.x();
+  const Vec2 y = fix.p_enu.head<2>() - predicted;
+  const Mat2 R = cov.topLeftCorner<2, 2>();
+  const auto last = last_accepted_gnss_ns.find(id);
+  if (!Gate(Mahalanobis<2>(y, H, R), options.gnss_gate_chi2, fix.header.stamp_ns,
+            last == last_accepted_gnss_ns.end() ? diag.initialized_at_ns : last->second)) {
+    Reject(id, RejectReason::kMahalanobisGate);
+    return;
+  }
+  Update<2>(y, H, R);
+  // Altitude of the body origin (flat vehicle: the lever arm's z is a constant offset).
+  const double z_meas = fix.p_enu.z() - info.p_body_sensor.z();
+  const double k = Pz / (Pz + cov(2, 2));
+  z += k * (z_meas - z);
+  Pz *= 1.0 - k;
+  last_accepted_gnss_ns[id] = fix.header.stamp_ns;
+  Accept(id, fix.header.stamp_ns);
+  UpdateDiagnostics u;
+  u.t_ns = t_ns;
+  u.solve_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  u.iterations = 1;
+  u.usable = true;
+  u.num_states = 1;
+  u.factors["gnss"] = 1;
+  diag.updates.push_back(u);
+}
+
+void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const SensorInfo& info,
+                                                  const GnssPositionEnu& fix) {
+  if (id != course_antenna) return;
+  if (!first_fix) {
+    first_fix = {fix.header.stamp_ns, fix.p_enu};
+    first_fix_covariance = fix.covariance;
+    return;
+  }
+  const Vec3 d = fix.p_enu - first_fix->second;
+  const double dt = ToSeconds(fix.header.stamp_ns - first_fix->first);
+  // The course is the chord between two noisy fixes: its yaw sigma is about
+  // sqrt(2) sigma_h / distance; wait until that is below course_max_yaw_sigma_rad.
+  const Mat3 cov_first = AdjustedCovariance(first_fix_covariance, info);
+  const Mat3 cov_now = AdjustedCovariance(fix.covariance, info);
+  const double var_h = std::max(cov_first.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff(),
+                                cov_now.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff());
+  const double distance = d.head<2>().norm();
+  if (distance < options.course_min_distance_m || dt <= 0.0) return;
+  const double course_var = 2.0 * var_h / (distance * distance);
+  if (course_var > options.course_max_yaw_sigma_rad * options.course_max_yaw_sigma_rad) return;
+  double yaw = std::atan2(d.y(), d.x());
+  double speed = d.head<2>().norm() / dt;
+  if (encoder_speed) {
+    speed = *encoder_speed;
+    if (speed < 0.0) yaw = so3::WrapAngle(yaw + std::numbers::pi);
+  }
+  const Mat3& cov = cov_now;
+  const Vec2 Rl = (Rz(yaw) * info.p_body_sensor).head<2>();
+  x = VecN::Zero();
+  x[kX] = fix.p_enu.x() - Rl.x();
+  x[kY] = fix.p_enu.y() - Rl.y();
+  x[kPsi] = yaw;
+  x[kVx] = speed;
+  P = MatN::Zero();
+  P.topLeftCorner<2, 2>() = cov.topLeftCorner<2, 2>();
+  P(kPsi, kPsi) = options.init_yaw_sigma_rad * options.init_yaw_sigma_rad + course_var;
+  // The lever arm moves the yaw uncertainty into the position.
+  const Vec2 dpos_dpsi(-Rl.y(), Rl.x());
+  P.block<2, 1>(0, kPsi) = -dpos_dpsi * P(kPsi, kPsi);
+  P.block<1, 2>(kPsi, 0) = P.block<2, 1>(0, kPsi).transpose();
+  P.topLeftCorner<2, 2>() += dpos_dpsi * dpos_dpsi.transpose() * P(kPsi, kPsi);
+  P(kVx, kVx) = options.init_speed_sigma_mps * options.init_speed_sigma_mps;
+  P(kVy, kVy) = options.init_speed_sigma_mps * options.init_speed_sigma_mps;
+  P(kR, kR) = 0.1 * 0.1;
+  P(kBg, kBg) = options.init_gyro_bias_sigma_radps * options.init_gyro_bias_sigma_radps;
+  P(kBa, kBa) = options.init_accel_bias_sigma_mps2 * options.init_accel_bias_sigma_mps2;
+  z = fix.p_enu.z() - info.p_body_sensor.z();
+  Pz = cov(2, 2);
+  t_ns = fix.header.stamp_ns;
+  initialized = true;
+  diag.initialized = true;
+  diag.initialized_at_ns = t_ns;
+  diag.initialization = "moving (gnss course)";
+  if (last_imu_ns) {
+    Propagate(*last_imu_ns);
+    PushHistory();
+  }
+}
+
+}  // namespace statebench::est
