@@ -6,18 +6,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
-#include "apps/diagnostics_json.hpp"
-#include "apps/progress_bar.hpp"
+#include "apps/estimator_feed.hpp"
 #include "core/error.hpp"
+#include "core/geodetic.hpp"
 #include "core/truth_io.hpp"
 #include "estimator/estimator_config.hpp"
-#include "core/geodetic.hpp"
 #include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
 #include "reports/metrics_json.hpp"
@@ -27,7 +25,8 @@ namespace statebench::app {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: statebench estimate LOG --out DIR [--estimator factor_graph|ekf] [--config OPTIONS.yaml]\n"
+    "usage: statebench estimate LOG --out DIR [--estimator factor_graph|ekf] [--config "
+    "OPTIONS.yaml]\n"
     "                           [--setup SETUP.yaml] [--vehicle VEHICLE.yaml]\n"
     "                           [--full-covariance] [--quiet]\n"
     "  Runs an estimator (default: the factor graph) on a recorded log (simulated or converted\n"
@@ -35,7 +34,8 @@ constexpr const char* kUsage =
     "  diagonal, or the full covariance with --full-covariance; estimate.tum), diagnostics.json,\n"
     "  and metrics.json when the log holds truth. --config defaults to\n"
     "  scenarios/estimators/<estimator>.yaml, --setup to the log's own sensor setup; the EKF\n"
-    "  baseline also needs the vehicle parameters (--vehicle scenarios/vehicles/quadricycle.yaml).\n";
+    "  baseline also needs the vehicle parameters (--vehicle "
+    "scenarios/vehicles/quadricycle.yaml).\n";
 
 std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
   const char* src = std::getenv("STATEBENCH_SOURCE_DIR");
@@ -45,8 +45,12 @@ std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
 }  // namespace
 
 int RunEstimate(const std::vector<std::string>& argv) {
-  const auto parsed = ParseCommand({"estimate", kUsage, {"quiet", "full-covariance"},
-                                    {"out", "config", "setup", "estimator", "vehicle"}, 1, {"out"}},
+  const auto parsed = ParseCommand({"estimate",
+                                    kUsage,
+                                    {"quiet", "full-covariance"},
+                                    {"out", "config", "setup", "estimator", "vehicle"},
+                                    1,
+                                    {"out"}},
                                    argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
@@ -78,50 +82,32 @@ int RunEstimate(const std::vector<std::string>& argv) {
     }
     const double end_s = truth.empty() ? 0.0 : ToSeconds(truth.back().t_ns);
 
-    std::filesystem::create_directories(out_dir);
-    const std::unique_ptr<est::Estimator> estimator_ptr = est::MakeEstimator(name, setup, files);
-    est::Estimator& estimator = *estimator_ptr;
-    reports::EstimateWriter writer(out_dir, args->Flag("full-covariance"));
-    std::vector<StateEstimate> estimates;
-    ProgressBar bar("estimate " + log_dir.filename().string());
-    std::size_t n = 0;
+    EstimatorFeed feed(setup.imu_id, log_frame);
+    feed.Add(name, name, out_dir, est::MakeEstimator(name, setup, files),
+             args->Flag("full-covariance"));
+    FeedProgress progress("estimate " + log_dir.filename().string(), end_s, quiet);
     while (const auto m = reader.Next()) {
-      estimator.Add(*m);
-      const auto* imu = std::get_if<ImuSample>(&*m);
-      if (imu == nullptr || imu->header.sensor_id != setup.imu_id) continue;
-      if (auto e = estimator.StateAt(imu->header.stamp_ns)) {
-        if (log_frame) {
-          e->state.p_world = log_frame->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
-        }
-        writer.Write(*e);
-        estimates.push_back(*e);
-      }
-      if (!quiet && ++n % 500 == 0) {
-        char detail[64];
-        std::snprintf(detail, sizeof(detail), "t=%.0f s", ToSeconds(imu->header.stamp_ns));
-        bar.Update(end_s > 0 ? ToSeconds(imu->header.stamp_ns) / end_s : 0.0, detail);
-      }
+      if (const auto t = feed.Feed(*m)) progress.Epoch(*t);
     }
-    writer.Close();
-    if (!quiet) bar.Finish();
-    const est::EstimatorDiagnostics diagnostics = estimator.diagnostics();
-    std::ofstream(out_dir / "diagnostics.json") << DiagnosticsJson(diagnostics).dump(2) << "\n";
+    progress.Finish();
+    const std::vector<reports::ReferenceState> reference =
+        truth.empty() ? std::vector<reports::ReferenceState>{}
+                      : reports::ReferenceFromTruth(truth, setup.T_body_imu);
+    EstimatorScore score = feed.Finish(reference, {}).front();
+    const FedEstimator& fed = feed.estimators().front();
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-    std::printf("%s: %zu estimates at IMU rate -> %s (wall %.1f s)\n", estimator.name().c_str(),
-                estimates.size(), out_dir.string().c_str(), wall_s);
+    std::printf("%s: %zu estimates at IMU rate -> %s (wall %.1f s)\n",
+                fed.estimator->name().c_str(), fed.estimates.size(), out_dir.string().c_str(),
+                wall_s);
     if (!truth.empty()) {
-      reports::MetricsOptions mopt;
-      mopt.skip_before_ns = diagnostics.initialized_at_ns;
-      const auto reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
-      const reports::TrajectoryMetrics metrics =
-          reports::ComputeTrajectoryMetrics(estimates, reference, mopt);
-      nlohmann::json j = reports::ToJson(metrics);
-      j["estimator"] = estimator.name();
+      nlohmann::json& j = score.metrics_json;
+      j["estimator"] = fed.estimator->name();
       j["log"] = log_dir.string();
       j["wall_time_s"] = wall_s;
-      std::ofstream(out_dir / "metrics.json") << j.dump(2) << "\n";
+      WriteMetrics(out_dir, score);
+      const reports::TrajectoryMetrics& metrics = score.metrics;
       std::printf(
           "RMSE  x %.3f m  y %.3f m  z %.3f m  yaw %.4f rad  v_long %.3f m/s  | APE %.3f m  "
           "NEES(6) %.2f  over %.0f m\n",

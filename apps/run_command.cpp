@@ -18,8 +18,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
-#include "apps/diagnostics_json.hpp"
-#include "apps/progress_bar.hpp"
+#include "apps/estimator_feed.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
@@ -87,13 +86,6 @@ std::vector<sim::EstimatorSpec> SelectEstimators(const std::vector<sim::Estimato
   return selected;
 }
 
-struct EstimatorRun {
-  sim::EstimatorSpec spec;
-  std::unique_ptr<est::Estimator> estimator;
-  std::unique_ptr<reports::EstimateWriter> writer;
-  std::vector<StateEstimate> estimates;
-};
-
 // Writes the estimator's merged options to DIR/<label>/estimator_config.yaml and builds the
 // estimator from that file, so the run can be repeated from it. An InputError (a bad override,
 // an option that does not fit the sensor setup) names the written file's line and the
@@ -142,30 +134,6 @@ std::vector<reports::OutageWindow> SharedGnssOutages(const sensors::SensorSetup&
   return windows;
 }
 
-// RMSE and APE of the estimates inside each outage window (the paper's setup-3 figures).
-nlohmann::json DuringOutages(const std::vector<StateEstimate>& estimates,
-                             const std::vector<reports::ReferenceState>& reference,
-                             const std::vector<reports::OutageWindow>& windows,
-                             TimeNs skip_before_ns) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const reports::OutageWindow& w : windows) {
-    std::vector<StateEstimate> inside;
-    for (const StateEstimate& e : estimates) {
-      if (e.state.t_ns >= w.begin_ns && e.state.t_ns <= w.end_ns) inside.push_back(e);
-    }
-    reports::MetricsOptions options;
-    options.skip_before_ns = skip_before_ns;
-    const nlohmann::json m =
-        reports::ToJson(reports::ComputeTrajectoryMetrics(inside, reference, options));
-    out.push_back({{"begin_s", ToSeconds(w.begin_ns)},
-                   {"end_s", ToSeconds(w.end_ns)},
-                   {"compared", m["compared"]},
-                   {"rmse", m["rmse"]},
-                   {"ape", m["ape"]}});
-  }
-  return out;
-}
-
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
@@ -195,14 +163,12 @@ int RunRun(const std::vector<std::string>& argv) {
     const YamlNode setup_node = YamlNode::LoadString(
         sensors.setup_yaml, sensors.setup.source.empty() ? "sensor setup" : sensors.setup.source);
     const est::EstimatorSensorSetup setup = est::ParseEstimatorSensorSetup(setup_node);
-    std::vector<EstimatorRun> runs;
+    // In the scenario's ENU frame, whatever origin each estimator chose.
+    EstimatorFeed feed(setup.imu_id, LocalEnuFrame(scenario.origin));
     for (const sim::EstimatorSpec& spec : specs) {
-      EstimatorRun r;
-      r.spec = spec;
-      r.estimator = MakeScenarioEstimator(spec, scenario, setup, out_dir / spec.label);
-      r.writer = std::make_unique<reports::EstimateWriter>(out_dir / spec.label,
-                                                           args->Flag("full-covariance"));
-      runs.push_back(std::move(r));
+      const fs::path dir = out_dir / spec.label;
+      feed.Add(spec.label, spec.type, dir, MakeScenarioEstimator(spec, scenario, setup, dir),
+               args->Flag("full-covariance"));
     }
 
     if (!quiet) {
@@ -210,32 +176,14 @@ int RunRun(const std::vector<std::string>& argv) {
                    scenario.name.c_str());
     }
     sim::SensorRun run(scenario, out_dir);
-    const LocalEnuFrame world_frame(scenario.origin);
     std::vector<TruthSample> truth;
     run.SetTruthObserver([&truth](const TruthSample& s) { truth.push_back(s); });
-    ProgressBar bar("run " + scenario.name);
     const double end_s = ToSeconds(run.truth().end_ns());
-    std::size_t n = 0;
+    FeedProgress progress("run " + scenario.name, end_s, quiet);
     while (const auto m = run.Next()) {
-      const auto* imu = std::get_if<ImuSample>(&*m);
-      const bool output = imu != nullptr && imu->header.sensor_id == setup.imu_id;
-      for (EstimatorRun& r : runs) {
-        r.estimator->Add(*m);
-        if (!output) continue;
-        if (auto e = r.estimator->StateAt(imu->header.stamp_ns)) {
-          // In the scenario's ENU frame, whatever origin the estimator chose.
-          e->state.p_world = world_frame.ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
-          r.writer->Write(*e);
-          r.estimates.push_back(*e);
-        }
-      }
-      if (output && !quiet && ++n % 500 == 0) {
-        char detail[64];
-        std::snprintf(detail, sizeof(detail), "t=%.0f s", ToSeconds(imu->header.stamp_ns));
-        bar.Update(ToSeconds(imu->header.stamp_ns) / end_s, detail);
-      }
+      if (const auto t = feed.Feed(*m)) progress.Epoch(*t);
     }
-    if (!quiet) bar.Finish();
+    progress.Finish();
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
@@ -248,34 +196,26 @@ int RunRun(const std::vector<std::string>& argv) {
     std::printf("%-16s %8s %8s %8s %9s %9s %8s %8s %9s\n", "estimator", "x [m]", "y [m]", "z [m]",
                 "yaw [rad]", "v_lon[m/s]", "APE [m]", "NEES(6)", "solve p99");
     nlohmann::json estimators = nlohmann::json::array();
-    for (EstimatorRun& r : runs) {
-      const fs::path dir = out_dir / r.spec.label;
-      r.writer->Close();
-      const est::EstimatorDiagnostics diagnostics = r.estimator->diagnostics();
-      const nlohmann::json diag = DiagnosticsJson(diagnostics);
-      std::ofstream(dir / "diagnostics.json") << diag.dump(2) << "\n";
-      reports::MetricsOptions mopt;
-      mopt.skip_before_ns = diagnostics.initialized_at_ns;
-      mopt.outages = outages;
-      const reports::TrajectoryMetrics metrics =
-          reports::ComputeTrajectoryMetrics(r.estimates, reference, mopt);
-      nlohmann::json j = reports::ToJson(metrics);
-      j["during_outages"] =
-          DuringOutages(r.estimates, reference, outages, diagnostics.initialized_at_ns);
-      j["estimator"] = r.spec.label;
-      j["type"] = r.spec.type;
+    const std::vector<EstimatorScore> scores = feed.Finish(reference, outages);
+    for (std::size_t i = 0; i < scores.size(); ++i) {
+      const FedEstimator& r = feed.estimators()[i];
+      EstimatorScore s = scores[i];
+      nlohmann::json& j = s.metrics_json;
+      j["estimator"] = r.label;
+      j["type"] = r.type;
       j["scenario"] = scenario.name;
       j["seed"] = scenario.seed;
-      j["solve_ms_p99"] = diag["updates"]["solve_ms_p99"];
-      std::ofstream(dir / "metrics.json") << j.dump(2) << "\n";
-      estimators.push_back({{"label", r.spec.label},
-                            {"type", r.spec.type},
-                            {"config", (fs::path(r.spec.label) / "estimator_config.yaml").string()},
+      j["solve_ms_p99"] = s.diagnostics_json["updates"]["solve_ms_p99"];
+      WriteMetrics(r.dir, s);
+      estimators.push_back({{"label", r.label},
+                            {"type", r.type},
+                            {"config", (fs::path(r.label) / "estimator_config.yaml").string()},
                             {"metrics", j}});
-      std::printf("%-16s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.spec.label.c_str(),
+      const reports::TrajectoryMetrics& metrics = s.metrics;
+      std::printf("%-16s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.label.c_str(),
                   metrics.rmse_x_m, metrics.rmse_y_m, metrics.rmse_z_m, metrics.rmse_yaw_rad,
                   metrics.rmse_v_longitudinal_mps, metrics.ape_translation_m.rmse,
-                  metrics.mean_pose_nees, diag["updates"]["solve_ms_p99"].get<double>());
+                  metrics.mean_pose_nees, j["solve_ms_p99"].get<double>());
     }
     const nlohmann::json summary = {{"scenario", scenario.name},
                                     {"file", scenario.file.string()},
