@@ -63,6 +63,26 @@ struct OptionRange {
   }
 };
 
+// The number at `node`, checked against `range`: InputError naming file:line and field when it is
+// not a number or out of the range (NaN and infinities never pass).
+inline double CheckedNumber(const YamlNode& node, const OptionRange& range) {
+  const double v = node.As<double>();
+  if (!range.Contains(v)) {
+    std::ostringstream got;
+    got << v;
+    node.Fail("must be " + range.Describe() + ", got " + got.str());
+  }
+  return v;
+}
+
+// Sets *value from map[key] when the key is there and not null, checked against `range`.
+inline void ReadOptionalNumber(const YamlNode& map, const std::string& key,
+                               const OptionRange& range, double* value) {
+  if (const auto child = map.Find(key); child && !child->IsNull()) {
+    *value = CheckedNumber(*child, range);
+  }
+}
+
 // One line of an options documentation table.
 struct OptionRow {
   std::string name;  // dotted path, e.g. gnss.gate_chi2
@@ -96,11 +116,7 @@ class OptionTable {
   OptionTable& Number(std::string name, Access<double> at, OptionRange range, std::string doc) {
     Field f = Named(std::move(name), std::move(doc));
     f.numeric = NumericOption{f.name, range, false};
-    f.read = [at, range](const YamlNode& n, Options* o) {
-      const double v = n.As<double>();
-      if (!range.Contains(v)) n.Fail("must be " + range.Describe());
-      at(*o) = v;
-    };
+    f.read = [at, range](const YamlNode& n, Options* o) { at(*o) = CheckedNumber(n, range); };
     f.check = [at, range, name = f.name](const Options& o) -> std::optional<std::string> {
       const double v = at(const_cast<Options&>(o));
       if (range.Contains(v)) return std::nullopt;

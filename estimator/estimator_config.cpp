@@ -32,18 +32,6 @@ SensorKind ParseKind(const YamlNode& node) {
   node.Fail("unknown sensor type '" + name + "' (expected one of: " + names + ")");
 }
 
-double NonNegative(const YamlNode& node) {
-  const double v = node.As<double>();
-  if (!(v >= 0.0) || !std::isfinite(v)) node.Fail("must be a non-negative number");
-  return v;
-}
-
-// Sets *value from node[key] when present, validated by check.
-template <typename Check>
-void Read(const YamlNode& node, const char* key, double* value, Check check) {
-  if (const auto child = node.Find(key); child && !child->IsNull()) *value = check(*child);
-}
-
 // The `estimator:` block of a sensor entry.
 void ParseSensorOverrides(const YamlNode& node, SensorKind kind, EstimatorSensorSetup* setup,
                           GnssAntenna* antenna) {
@@ -78,7 +66,7 @@ void ParseDualAntenna(const YamlNode& node, EstimatorSensorSetup* setup) {
   }
   if (pair.main == pair.aux) node["aux"].Fail("must differ from main");
   pair.latency_s = std::max(setup->Find(pair.main)->latency_s, setup->Find(pair.aux)->latency_s);
-  Read(node, "latency_s", &pair.latency_s, NonNegative);
+  ReadOptionalNumber(node, "latency_s", OptionRange::NonNegative(), &pair.latency_s);
   if ((pair.p_imu_aux - pair.p_imu_main).norm() < 0.1) {
     node["aux"].Fail("the antennas are less than 0.1 m apart");
   }
@@ -166,7 +154,7 @@ EstimatorSensorSetup ParseEstimatorSensorSetup(const YamlNode& root) {
     if (s.id.empty()) entry["id"].Fail("must not be empty");
     if (setup.Find(s.id) != nullptr) entry["id"].Fail("duplicate sensor id '" + s.id + "'");
     s.T_body_sensor = ParseTransform(entry["T_body_sensor"]);
-    Read(entry, "latency_s", &s.latency_s, NonNegative);
+    ReadOptionalNumber(entry, "latency_s", OptionRange::NonNegative(), &s.latency_s);
     if (s.kind == SensorKind::kImu) {
       if (has_imu) entry["type"].Fail("a second imu (the estimator uses one)");
       has_imu = true;

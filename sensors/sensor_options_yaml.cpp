@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/option_table.hpp"
+
 namespace statebench::sensors {
 namespace {
 
@@ -26,12 +28,6 @@ void ExpectEntryKeys(const YamlNode& entry, std::initializer_list<std::string_vi
     list.resize(list.size() - 2);
     entry[key].Fail("unknown field (expected one of: " + list + ")");
   }
-}
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
 }
 
 // Overrides *value with entry[key] when present.
@@ -96,22 +92,12 @@ std::vector<GnssOutage> ParseOutages(const YamlNode& node) {
 
 }  // namespace
 
-double NonNegative(const YamlNode& node) {
-  const double v = node.As<double>();
-  if (v < 0.0) node.Fail("must be >= 0, got " + Num(v));
-  return v;
-}
+double NonNegative(const YamlNode& node) { return CheckedNumber(node, OptionRange::NonNegative()); }
 
-double Positive(const YamlNode& node) {
-  const double v = node.As<double>();
-  if (v <= 0.0) node.Fail("must be > 0, got " + Num(v));
-  return v;
-}
+double Positive(const YamlNode& node) { return CheckedNumber(node, OptionRange::Positive()); }
 
 double InRange(const YamlNode& node, double lo, double hi) {
-  const double v = node.As<double>();
-  if (v < lo || v > hi) node.Fail("must be in [" + Num(lo) + ", " + Num(hi) + "], got " + Num(v));
-  return v;
+  return CheckedNumber(node, OptionRange::Closed(lo, hi));
 }
 
 ImuOptions ParseImuOptions(const YamlNode& entry) {

@@ -18,7 +18,8 @@ SpeedEncoderOptions ParseSpeedEncoderOptions(const YamlNode& entry);
 SteeringEncoderOptions ParseSteeringEncoderOptions(const YamlNode& entry);
 LidarOptions ParseLidarOptions(const YamlNode& entry);
 
-// Checked numbers: throw naming the field when out of range.
+// Checked numbers (core/option_table.hpp CheckedNumber): throw naming the field when out of
+// range or not finite.
 double NonNegative(const YamlNode& node);
 double Positive(const YamlNode& node);
 double InRange(const YamlNode& node, double lo, double hi);

@@ -97,6 +97,19 @@ TEST(SensorSetup, MissingFieldNamesFileLineAndField) {
   EXPECT_NE(msg.find("missing field"), std::string::npos) << msg;
 }
 
+TEST(SensorSetup, NonFiniteNumberIsRefusedNamingFileLineAndField) {
+  const std::string msg = ErrorOf(std::string("name: x\nsensors:") + kImuEntry + R"(
+  - type: gnss
+    id: gnss
+    rate_hz: 10
+    latency_s: .nan
+    T_body_sensor: {translation: [0, 0, 1.5]}
+    mode: single
+)");
+  EXPECT_NE(msg.find("bad.yaml:13:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("sensors[1].latency_s"), std::string::npos) << msg;
+}
+
 TEST(SensorSetup, WrongTypeNamesFileLineAndField) {
   const std::string msg = ErrorOf(std::string("name: x\nsensors:") + kImuEntry + R"(
   - type: gnss
