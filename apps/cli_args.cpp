@@ -1,5 +1,7 @@
 #include "apps/cli_args.hpp"
 
+#include <sstream>
+
 #include <charconv>
 #include <cstdio>
 #include <stdexcept>
@@ -89,6 +91,16 @@ std::variant<CliArgs, int> ParseCommand(const CommandSpec& spec,
     std::fprintf(stderr, "statebench %s: %s\n%s", spec.name.c_str(), e.what(), spec.usage.c_str());
     return 2;
   }
+}
+
+std::vector<std::string> SplitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
 }
 
 }  // namespace statebench::app

@@ -32,6 +32,9 @@ class CliArgs {
   std::map<std::string, std::string> options_;
 };
 
+// "a,b,,c" -> {"a", "b", "c"}: the items of a comma-separated option value.
+std::vector<std::string> SplitList(const std::string& s);
+
 // What a subcommand accepts.
 struct CommandSpec {
   std::string name;   // "simulate"

@@ -20,6 +20,7 @@
 #include "apps/commands.hpp"
 #include "apps/estimator_feed.hpp"
 #include "apps/scenario_overrides.hpp"
+#include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
 #include "estimator/estimator_factory.hpp"
@@ -36,21 +37,14 @@ namespace fs = std::filesystem;
 constexpr const char* kUsage =
     "usage: statebench run SCENARIO.yaml --out DIR [--estimators NAME,...] [--seed N]\n"
     "                      [--duration S] [--full-covariance] [--quiet]\n"
+    "                      [--cache DIR [--cache-limit-gb G]]\n"
     "  Runs the scenario's simulation, its sensor setup and each estimator of its `estimators:`\n"
     "  list (default: factor_graph and ekf) in one process and writes per estimator\n"
     "  DIR/<name>/{estimator_config.yaml, estimate.csv, estimate.tum, diagnostics.json,\n"
     "  metrics.json} and DIR/run.json; prints a table of the main metrics. --estimators picks\n"
-    "  entries of the list by name or by type.\n";
-
-std::vector<std::string> SplitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
+    "  entries of the list by name or by type. --cache keeps the SUMO result and every sensor's\n"
+    "  stream in DIR under a hash of what they depend on and reuses them (same bits; run.json\n"
+    "  counts the hits); the least recently used entries go beyond G GB (default 20).\n";
 
 // The entries of `all` that --estimators names, by label or by type, in the list's order.
 std::vector<sim::EstimatorSpec> SelectEstimators(const std::vector<sim::EstimatorSpec>& all,
@@ -140,7 +134,8 @@ int RunRun(const std::vector<std::string>& argv) {
   const auto parsed = ParseCommand({"run",
                                     kUsage,
                                     {"quiet", "full-covariance"},
-                                    {"out", "estimators", "seed", "duration"},
+                                    {"out", "estimators", "seed", "duration", "cache",
+                                     "cache-limit-gb"},
                                     1,
                                     {"out"}},
                                    argv);
@@ -175,7 +170,10 @@ int RunRun(const std::vector<std::string>& argv) {
       std::fprintf(stderr, "run: %s: building network, running SUMO, building the world...\n",
                    scenario.name.c_str());
     }
-    sim::SensorRun run(scenario, out_dir);
+    std::unique_ptr<StageCache> cache = OpenStageCache(*args);
+    sim::SensorRunOptions run_options;
+    if (cache) run_options.cache = {cache.get(), BuildIdentity()};
+    sim::SensorRun run(scenario, out_dir, run_options);
     std::vector<TruthSample> truth;
     run.SetTruthObserver([&truth](const TruthSample& s) { truth.push_back(s); });
     const double end_s = ToSeconds(run.truth().end_ns());
@@ -217,7 +215,7 @@ int RunRun(const std::vector<std::string>& argv) {
                   metrics.rmse_v_longitudinal_mps, metrics.ape_translation_m.rmse,
                   metrics.mean_pose_nees, j["solve_ms_p99"].get<double>());
     }
-    const nlohmann::json summary = {{"scenario", scenario.name},
+    nlohmann::json summary = {{"scenario", scenario.name},
                                     {"file", scenario.file.string()},
                                     {"seed", scenario.seed},
                                     {"simulated_s", end_s},
@@ -225,6 +223,10 @@ int RunRun(const std::vector<std::string>& argv) {
                                     {"wall_time_s", wall_s},
                                     {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
                                     {"estimators", estimators}};
+    if (cache) {
+      summary["cache"] = CacheCountsJson(*cache);
+      cache->Prune();
+    }
     std::ofstream(out_dir / "run.json") << summary.dump(2) << "\n";
     return 0;
   } catch (...) {

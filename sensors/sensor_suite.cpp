@@ -57,6 +57,16 @@ void SensorSuite::AddModel(std::unique_ptr<SensorModel> model) {
   models_.push_back(std::move(model));
 }
 
+void SensorSuite::ReplaceModels(
+    const std::function<std::unique_ptr<SensorModel>(std::unique_ptr<SensorModel>)>& replace) {
+  std::vector<std::unique_ptr<SensorModel>> models = std::move(models_);
+  models_.clear();
+  receivers_.clear();
+  min_delay_ns_ = std::numeric_limits<TimeNs>::max();
+  for (const auto& h : headings_) min_delay_ns_ = std::min(min_delay_ns_, FromSeconds(h.latency_s));
+  for (auto& model : models) AddModel(replace(std::move(model)));
+}
+
 void SensorSuite::SetSatelliteVisibility(
     const std::shared_ptr<const SatelliteVisibility>& visibility) {
   for (GnssReceiver* r : receivers_) r->SetSatelliteVisibility(visibility);

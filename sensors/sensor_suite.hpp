@@ -32,6 +32,10 @@ class SensorSuite {
   SensorSuite(const SensorSetup& setup, const LocalEnuFrame& frame, std::uint64_t seed);
 
   void AddModel(std::unique_ptr<SensorModel> model);
+  // Replaces every model by replace(model) in place (the stage cache wraps or swaps them, see
+  // cached_sensor_model.hpp); call after SetSatelliteVisibility.
+  void ReplaceModels(
+      const std::function<std::unique_ptr<SensorModel>(std::unique_ptr<SensorModel>)>& replace);
   // Urban-canyon hook, given to every GNSS receiver.
   void SetSatelliteVisibility(const std::shared_ptr<const SatelliteVisibility>& visibility);
 

@@ -31,6 +31,18 @@ void DrivenPath::AppendLane(const std::string& lane_id, const std::vector<Vec3>&
   lanes_.push_back(lane);
 }
 
+DrivenPath DrivenPath::Restore(std::vector<Vec3> points, std::vector<double> arc_lengths,
+                               std::vector<DrivenLane> lanes) {
+  if (points.size() != arc_lengths.size()) {
+    throw std::invalid_argument("DrivenPath::Restore: points and arc lengths differ in number");
+  }
+  DrivenPath path;
+  path.points_ = std::move(points);
+  path.s_ = std::move(arc_lengths);
+  path.lanes_ = std::move(lanes);
+  return path;
+}
+
 Vec3 DrivenPath::PointAt(double s_m) const {
   if (points_.empty()) throw std::logic_error("DrivenPath::PointAt on an empty path");
   if (s_m <= 0.0) return points_.front();

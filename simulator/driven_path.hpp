@@ -39,6 +39,11 @@ class DrivenPath {
   double length_m() const { return s_.empty() ? 0.0 : s_.back(); }
   bool empty() const { return lanes_.empty(); }
 
+  // A path from the parts another path returned (points, arc lengths, lanes), for the stage
+  // cache (sumo_result_io.hpp). Throws std::invalid_argument when they do not fit together.
+  static DrivenPath Restore(std::vector<Vec3> points, std::vector<double> arc_lengths,
+                            std::vector<DrivenLane> lanes);
+
   // Point at arc length s (clamped to [0, length]).
   Vec3 PointAt(double s_m) const;
 

@@ -1,6 +1,7 @@
 #include "simulator/sensor_run.hpp"
 
 #include <algorithm>
+#include <map>
 #include <utility>
 
 #include "sensors/lidar_sensor_model.hpp"
@@ -12,13 +13,24 @@ namespace {
 
 using sensors::SensorType;
 
+constexpr const char* kSensorStage = "sensors";
+constexpr const char* kStreamFile = "stream.bin";
+
+// `cached`: the sensors whose stream the cache holds (entry folder by id); their models are
+// replayed, the lidars among them never built. `world` may be null when no model needs it.
 std::unique_ptr<sensors::SensorSuite> MakeSuite(
     const Scenario& scenario, const sensors::SensorSetup& setup,
     const std::shared_ptr<sensors::LidarWorld>& world,
-    const std::optional<sensors::SkyViewOptions>& urban_canyon, std::uint64_t sensor_seed) {
+    const std::optional<sensors::SkyViewOptions>& urban_canyon, std::uint64_t sensor_seed,
+    const std::map<std::string, std::filesystem::path>& cached) {
   auto suite =
       std::make_unique<sensors::SensorSuite>(setup, LocalEnuFrame(scenario.origin), sensor_seed);
   for (const sensors::SensorConfig* c : setup.OfType(SensorType::kLidar)) {
+    if (const auto entry = cached.find(c->spec.id); entry != cached.end()) {
+      suite->AddModel(
+          std::make_unique<sensors::ReplayedSensorModel>(c->spec, entry->second / kStreamFile));
+      continue;
+    }
     suite->AddModel(std::make_unique<sensors::LidarSensorModel>(
         c->spec, std::get<sensors::LidarOptions>(c->options), *world, sensor_seed, c->where));
   }
@@ -38,27 +50,77 @@ std::unique_ptr<sensors::SensorSuite> MakeSuite(
 SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work_dir,
                      const SensorRunOptions& options)
     : sensors_(LoadScenarioSensors(scenario)),
-      sensor_seed_(options.sensor_seed.value_or(scenario.seed)) {
-  truth_ = std::make_unique<TruthSimulation>(scenario, work_dir, options.sumo);
+      sensor_seed_(options.sensor_seed.value_or(scenario.seed)),
+      cache_(options.cache) {
+  truth_ = std::make_unique<TruthSimulation>(scenario, work_dir, options.sumo, cache_);
 
   const sensors::SensorSetup& setup = sensors_.setup;
   std::optional<sensors::SkyViewOptions> urban_canyon = sensors_.faults.urban_canyon;
   if (options.urban_canyon && !*options.urban_canyon) urban_canyon.reset();
   if (options.urban_canyon && *options.urban_canyon && !urban_canyon) urban_canyon.emplace();
   if (setup.OfType(SensorType::kGnss).empty()) urban_canyon.reset();
-  if (!setup.OfType(SensorType::kLidar).empty() || urban_canyon) {
+
+  // Streams the cache holds, and the keys of the others (recorded below).
+  std::map<std::string, std::filesystem::path> cached;
+  std::map<std::string, std::string> keys;
+  const std::optional<std::string> truth_key =
+      cache_.enabled() ? TruthStageKey(scenario, options.sumo, cache_.code_id) : std::nullopt;
+  if (truth_key) {
+    keys = SensorStreamKeys(scenario, sensors_, *truth_key, sensor_seed_, cache_.code_id);
+    for (const auto& [id, key] : keys) {
+      if (const auto entry = cache_.cache->Find(kSensorStage, key)) cached[id] = *entry;
+    }
+  }
+  const auto needs_world = [&](SensorType type) {
+    for (const sensors::SensorConfig* c : setup.OfType(type)) {
+      if (!cached.count(c->spec.id)) return true;
+    }
+    return false;
+  };
+  if (needs_world(SensorType::kLidar) || (urban_canyon && needs_world(SensorType::kGnss))) {
     WorldFromSumoOptions world_options;
     world_options.layout = options.layout;
     world_options.layout.seed = scenario.seed;
     world_options.world = options.world;
     world_ = BuildLidarWorld(truth_->sumo(), truth_->terrain(), world_options);
   }
-  source_ = std::make_unique<sensors::SimulatedMeasurementSource>(
-      MakeSuite(scenario, setup, world_, urban_canyon, sensor_seed_),
-      [this] { return NextTruth(); });
+  auto suite = MakeSuite(scenario, setup, world_, world_ ? urban_canyon : std::nullopt,
+                         sensor_seed_, cached);
+  if (truth_key) {
+    suite->ReplaceModels([&](std::unique_ptr<sensors::SensorModel> model)
+                             -> std::unique_ptr<sensors::SensorModel> {
+      const std::string& id = model->spec().id;
+      if (dynamic_cast<sensors::ReplayedSensorModel*>(model.get())) return model;
+      if (const auto entry = cached.find(id); entry != cached.end()) {
+        return std::make_unique<sensors::ReplayedSensorModel>(model->spec(),
+                                                              entry->second / kStreamFile);
+      }
+      const auto key = keys.find(id);
+      if (key == keys.end()) return model;  // not an entry of the setup (none today)
+      Recording recording{nullptr, key->second, cache_.cache->Begin(kSensorStage, key->second)};
+      auto recorder = std::make_unique<sensors::RecordingSensorModel>(
+          std::move(model), recording.folder / kStreamFile);
+      recording.model = recorder.get();
+      recordings_.push_back(recording);
+      return recorder;
+    });
+  }
+  source_ = std::make_unique<sensors::SimulatedMeasurementSource>(std::move(suite),
+                                                                  [this] { return NextTruth(); });
 }
 
-SensorRun::~SensorRun() = default;
+SensorRun::~SensorRun() {
+  for (const Recording& r : recordings_) cache_.cache->Abandon(r.folder);
+}
+
+void SensorRun::PublishRecordings() {
+  for (const Recording& r : recordings_) {
+    r.model->Close();
+    cache_.cache->Publish(kSensorStage, r.key, r.folder);
+  }
+  recordings_.clear();
+}
+
 
 std::optional<Measurement> SensorRun::Next() {
   const std::vector<SensorOutage>& outages = sensors_.faults.sensor_outages;
@@ -75,7 +137,10 @@ std::optional<Measurement> SensorRun::Next() {
 
 std::optional<TruthSample> SensorRun::NextTruth() {
   TruthSample sample;
-  if (!truth_->Next(&sample)) return std::nullopt;
+  if (!truth_->Next(&sample)) {
+    PublishRecordings();
+    return std::nullopt;
+  }
   if (observer_) observer_(sample);
   return sample;
 }

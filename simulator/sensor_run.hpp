@@ -22,10 +22,12 @@
 #include <optional>
 
 #include "core/se3.hpp"
+#include "sensors/cached_sensor_model.hpp"
 #include "sensors/lidar_world.hpp"
 #include "sensors/measurement_stream.hpp"
 #include "sensors/urban_canyon_visibility.hpp"
 #include "sensors/world_layout.hpp"
+#include "simulator/cached_stages.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scenario_sensors.hpp"
 #include "simulator/sumo_run.hpp"
@@ -40,6 +42,10 @@ struct SensorRunOptions {
   // Satellites blocked by the world degrade the GNSS fixes; unset: as the scenario's faults say.
   std::optional<bool> urban_canyon;
   SumoRunOptions sumo;
+  // The SUMO result and every sensor's stream come from (and go to) this cache when set
+  // (cached_stages.hpp); the stream is the same, bit for bit. Only the defaults of `layout` and
+  // `world` are part of the keys: leave them alone when caching.
+  StageCacheUse cache;
 };
 
 class SensorRun : public sensors::MeasurementSource {
@@ -71,6 +77,14 @@ class SensorRun : public sensors::MeasurementSource {
 
  private:
   std::optional<TruthSample> NextTruth();
+  // The end of the truth: the recorded streams are complete and go into the cache.
+  void PublishRecordings();
+
+  struct Recording {
+    sensors::RecordingSensorModel* model = nullptr;  // owned by the suite
+    std::string key;
+    std::filesystem::path folder;  // StageCache::Begin
+  };
 
   ScenarioSensors sensors_;
   std::uint64_t sensor_seed_ = 0;
@@ -78,6 +92,8 @@ class SensorRun : public sensors::MeasurementSource {
   std::shared_ptr<sensors::LidarWorld> world_;
   std::unique_ptr<sensors::MeasurementSource> source_;
   std::function<void(const TruthSample&)> observer_;
+  StageCacheUse cache_;
+  std::vector<Recording> recordings_;
 };
 
 }  // namespace statebench::sim

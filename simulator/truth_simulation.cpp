@@ -41,9 +41,9 @@ EgoVehicleType EgoTypeFor(const VehicleParams& params) {
 }
 
 TruthSimulation::TruthSimulation(const Scenario& scenario, const std::filesystem::path& work_dir,
-                                 const SumoRunOptions& sumo_options)
+                                 const SumoRunOptions& sumo_options, const StageCacheUse& cache)
     : scenario_(scenario), params_(LoadVehicleParamsFile(scenario.vehicle_file)) {
-  sumo_ = SimulateSumo(scenario_, EgoTypeFor(params_), work_dir / "sumo", sumo_options);
+  sumo_ = SimulateSumoCached(scenario_, EgoTypeFor(params_), work_dir, sumo_options, cache);
   if (sumo_.ego.empty() || sumo_.driven_path.empty()) {
     throw InputError(scenario_.file.string() + ": the ego vehicle never entered the network");
   }

@@ -13,6 +13,8 @@
 // horizontal arc length.
 #pragma once
 
+#include "simulator/cached_stages.hpp"
+
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -51,8 +53,9 @@ class TruthSimulation {
  public:
   // Builds the network, runs SUMO (files in work_dir/sumo) and sets the vehicle on its path.
   // Throws InputError on bad scenario or vehicle files, or when SUMO cannot run the route.
+  // With `cache`, the SUMO result comes from the stage cache when it holds it.
   TruthSimulation(const Scenario& scenario, const std::filesystem::path& work_dir,
-                  const SumoRunOptions& sumo_options = {});
+                  const SumoRunOptions& sumo_options = {}, const StageCacheUse& cache = {});
 
   // The next 1 kHz truth sample (the first is t = 0); false once the end time is reached.
   bool Next(TruthSample* sample);
