@@ -13,5 +13,7 @@ int RunEstimate(const std::vector<std::string>& args);
 int RunRun(const std::vector<std::string>& args);
 int RunOdometry(const std::vector<std::string>& args);
 int RunSuite(const std::vector<std::string>& args);
+int RunSweep(const std::vector<std::string>& args);
+int RunResults(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

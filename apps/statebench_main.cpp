@@ -18,6 +18,8 @@ constexpr const char* kUsage =
     "  odometry LOG --out DIR             lidar-only odometry of a recorded log (TUM, KITTI error)\n"
     "  suite [DIR] --out OUT              every scenario of DIR (scenarios/paper) with run, in\n"
     "                                     parallel; Table I of the paper beside ours\n"
+    "  sweep SWEEP.yaml --out DIR         Monte Carlo sweep: many runs into a results store\n"
+    "  results summary|merge DB ...       statistics of a results store; merge shard stores\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -39,6 +41,8 @@ int main(int argc, char** argv) {
   if (command == "run") return statebench::app::RunRun(args);
   if (command == "odometry") return statebench::app::RunOdometry(args);
   if (command == "suite") return statebench::app::RunSuite(args);
+  if (command == "sweep") return statebench::app::RunSweep(args);
+  if (command == "results") return statebench::app::RunResults(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

@@ -1,0 +1,78 @@
+#include "apps/process_pool.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+namespace statebench::app {
+
+double MonotonicSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+void ProcessPool::Start(std::size_t token, const std::vector<std::string>& argv,
+                        const std::filesystem::path& stdout_file,
+                        const std::filesystem::path& stderr_file) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    // Child: only async-signal-safe calls until exec.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(126);
+    const int out = open(stdout_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out < 0 || err < 0) _exit(126);
+    dup2(out, STDOUT_FILENO);
+    dup2(err, STDERR_FILENO);
+    close(out);
+    close(err);
+    execv(args[0], args.data());
+    const char message[] = "statebench sweep: cannot execute the run program\n";
+    (void)!write(STDERR_FILENO, message, sizeof(message) - 1);
+    _exit(127);
+  }
+  children_[pid] = {token, MonotonicSeconds()};
+}
+
+ChildExit ProcessPool::WaitAny() {
+  if (children_.empty()) throw std::logic_error("ProcessPool::WaitAny: no child runs");
+  while (true) {
+    int status = 0;
+    rusage usage{};
+    const pid_t pid = wait4(-1, &status, 0, &usage);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error(std::string("wait failed: ") + std::strerror(errno));
+    }
+    const auto it = children_.find(pid);
+    if (it == children_.end()) continue;
+    ChildExit exit;
+    exit.token = it->second.token;
+    exit.wall_s = MonotonicSeconds() - it->second.start_s;
+    exit.cpu_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                 1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+    if (WIFEXITED(status)) {
+      exit.exit_code = WEXITSTATUS(status);
+    } else if (WIFSIGNALED(status)) {
+      exit.signal = WTERMSIG(status);
+      exit.exit_code = 128 + exit.signal;
+    }
+    children_.erase(it);
+    return exit;
+  }
+}
+
+}  // namespace statebench::app

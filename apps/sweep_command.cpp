@@ -1,0 +1,266 @@
+// statebench sweep SWEEP.yaml --out DIR [--jobs N] [--shard I/N] [--resume] [--dry-run]
+//                  [--duration S] [--cache DIR | --no-cache] [--cache-limit-gb G]
+//
+// Expands the sweep file (sweep_file.hpp, sweep_expansion.hpp) into runs and starts each as its
+// own `statebench run` process, --jobs at a time, in DIR/runs/<id>/; every finished run goes
+// into the results store DIR/results.db in one transaction (reports/results_store.hpp).
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
+#include "apps/commands.hpp"
+#include "apps/process_pool.hpp"
+#include "apps/progress_bar.hpp"
+#include "apps/stage_cache_options.hpp"
+#include "apps/sweep_expansion.hpp"
+#include "apps/sweep_run_record.hpp"
+#include "core/error.hpp"
+#include "reports/results_store.hpp"
+
+namespace statebench::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    "usage: statebench sweep SWEEP.yaml --out DIR [--jobs N] [--shard I/N] [--resume]\n"
+    "                        [--dry-run] [--duration S] [--cache DIR | --no-cache]\n"
+    "                        [--cache-limit-gb G]\n"
+    "  Expands the sweep file (docs/sweeps.md) into runs, each an independent `statebench run`\n"
+    "  process in DIR/runs/<id>/, --jobs at a time (default: the number of cores), and writes\n"
+    "  every finished run into the results store DIR/results.db (docs/results-store.md).\n"
+    "  --resume skips the runs already complete in the store and re-runs failed or interrupted\n"
+    "  ones. --shard I/N runs the I-th of N deterministic parts (merge the stores with\n"
+    "  `statebench results merge`). --dry-run lists the runs and their parameters.\n"
+    "  --duration S shortens every run (smoke tests). The SUMO results and the sensor streams\n"
+    "  are cached in --cache DIR (default $XDG_CACHE_HOME/statebench or ~/.cache/statebench,\n"
+    "  at most G GB, default 20) and reused by every run that has the same inputs.\n"
+    "  Exit code: 0 when every run succeeded, 1 when some failed, 2 on a bad sweep file.\n";
+
+std::pair<int, int> ParseShard(const std::string& text) {
+  int i = 0, n = 0;
+  char slash = 0;
+  std::istringstream in(text);
+  if (!(in >> i >> slash >> n) || slash != '/' || !in.eof() || n < 1 || i < 1 || i > n) {
+    throw std::invalid_argument("--shard: expected I/N with 1 <= I <= N, got '" + text + "'");
+  }
+  return {i, n};
+}
+
+fs::path DefaultCacheDir() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) {
+    return fs::path(xdg) / "statebench";
+  }
+  if (const char* home = std::getenv("HOME"); home && *home) {
+    return fs::path(home) / ".cache" / "statebench";
+  }
+  return fs::temp_directory_path() / "statebench-cache";
+}
+
+std::string Hostname() {
+  char name[256] = {};
+  gethostname(name, sizeof(name) - 1);
+  return name;
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+std::string ReadText(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void PrintDryRun(const std::vector<SweepRun>& runs, std::size_t total) {
+  std::printf("%zu of %zu runs\n", runs.size(), total);
+  std::printf("%-16s %-22s %8s  %-24s %s\n", "id", "scenario", "seed", "estimators",
+              "parameters");
+  for (const SweepRun& run : runs) {
+    std::string estimators, parameters;
+    for (const std::string& e : run.estimators) estimators += (estimators.empty() ? "" : ",") + e;
+    for (const auto& [axis, value] : run.parameters) {
+      parameters += (parameters.empty() ? "" : " ") + axis + "=" + value;
+    }
+    std::printf("%-16s %-22s %8llu  %-24s %s\n", run.id.c_str(), run.scenario.c_str(),
+                static_cast<unsigned long long>(run.seed), estimators.c_str(),
+                parameters.c_str());
+  }
+}
+
+std::string Duration(double s) {
+  char text[32];
+  if (s >= 3600) {
+    std::snprintf(text, sizeof(text), "%dh%02dm", static_cast<int>(s / 3600),
+                  static_cast<int>(s / 60) % 60);
+  } else {
+    std::snprintf(text, sizeof(text), "%dm%02ds", static_cast<int>(s / 60),
+                  static_cast<int>(s) % 60);
+  }
+  return text;
+}
+
+}  // namespace
+
+int RunSweep(const std::vector<std::string>& argv) {
+  const auto parsed = ParseCommand({"sweep",
+                                    kUsage,
+                                    {"resume", "dry-run", "no-cache"},
+                                    {"out", "jobs", "shard", "duration", "cache", "cache-limit-gb"},
+                                    1,
+                                    {"out"}},
+                                   argv);
+  if (const int* code = std::get_if<int>(&parsed)) return *code;
+  const CliArgs& args = std::get<CliArgs>(parsed);
+  try {
+    const fs::path sweep_file = args.positional().at(0);
+    const fs::path out_dir = *args.Option("out");
+    const int jobs = static_cast<int>(
+        args.Unsigned("jobs").value_or(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN))));
+    if (jobs < 1) throw std::invalid_argument("--jobs: must be at least 1");
+    const auto [shard, shards] = ParseShard(args.Option("shard").value_or("1/1"));
+    std::optional<double> duration = args.Double("duration");
+    if (duration && !(*duration > 0.0)) throw std::invalid_argument("--duration: must be positive");
+    if (args.Flag("no-cache") && (args.Option("cache") || args.Option("cache-limit-gb"))) {
+      throw std::invalid_argument("--no-cache: not with --cache or --cache-limit-gb");
+    }
+
+    const double expand_start = MonotonicSeconds();
+    const SweepSpec spec = LoadSweepFile(sweep_file);
+    const std::string code_version = CodeVersion();
+    const std::vector<SweepRun> all = ExpandSweep(spec, code_version, duration);
+    const std::vector<SweepRun> runs = ShardOf(all, shard, shards);
+    const double expand_s = MonotonicSeconds() - expand_start;
+    if (args.Flag("dry-run")) {
+      PrintDryRun(runs, all.size());
+      return 0;
+    }
+
+    fs::create_directories(out_dir / "runs");
+    const fs::path store_file = out_dir / "results.db";
+    reports::ResultsStore store(store_file);
+    const std::set<std::string> complete = store.CompletedRunIds();
+    if (!store.Runs().empty() && !args.Flag("resume")) {
+      throw std::invalid_argument(store_file.string() +
+                                  " already holds runs: pass --resume to go on with this sweep, "
+                                  "or choose another --out");
+    }
+    store.AddSweep({spec.name, fs::absolute(sweep_file).string(), ReadText(sweep_file),
+                    code_version, Hostname(), shards > 1 ? args.Option("shard").value() : "",
+                    UtcNow()});
+    std::vector<const SweepRun*> todo;
+    for (const SweepRun& run : runs) {
+      if (!complete.count(run.id)) todo.push_back(&run);
+    }
+
+    const fs::path cache_dir =
+        args.Option("cache") ? fs::path(*args.Option("cache")) : DefaultCacheDir();
+    const std::string cache_limit =
+        args.Option("cache-limit-gb").value_or(std::to_string(kDefaultCacheLimitGb));
+    char self[4096] = {};
+    const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+    if (n <= 0) throw std::runtime_error("cannot find the statebench executable");
+    setenv("STATEBENCH_BUILD_IDENTITY", BuildIdentity().c_str(), 1);
+
+    std::fprintf(stderr, "sweep %s: %zu runs (%zu already complete), %d at a time; store %s\n",
+                 spec.name.c_str(), runs.size(), runs.size() - todo.size(), jobs,
+                 store_file.c_str());
+    ProgressBar bar("sweep " + spec.name);
+    ProcessPool pool;
+    std::size_t next = 0, done = 0, failed = 0;
+    double child_wall_s = 0.0, store_s = 0.0;
+    std::vector<std::string> failures;
+    std::map<std::string, StageCache::Counts> cache_totals;
+    const double sweep_start = MonotonicSeconds();
+    const auto detail = [&] {
+      const double elapsed = MonotonicSeconds() - sweep_start;
+      const std::size_t finished = done + failed;
+      std::string eta = "?";
+      if (finished > 0) {
+        eta = Duration(elapsed / static_cast<double>(finished) *
+                       static_cast<double>(todo.size() - finished));
+      }
+      return std::to_string(done) + " done, " + std::to_string(failed) + " failed, " +
+             std::to_string(pool.running()) + " running of " + std::to_string(todo.size()) +
+             ", ETA " + eta;
+    };
+    bar.Update(0.0, detail());
+    while (next < todo.size() || pool.running() > 0) {
+      while (next < todo.size() && pool.running() < static_cast<std::size_t>(jobs)) {
+        const SweepRun& run = *todo[next];
+        const fs::path dir = out_dir / "runs" / run.id;
+        std::error_code ec;
+        fs::remove_all(dir, ec);  // an interrupted attempt
+        fs::create_directories(dir);
+        std::ofstream(dir / "scenario.yaml") << run.scenario_yaml;
+        std::vector<std::string> command = {self, "run", (dir / "scenario.yaml").string(),
+                                            "--out", dir.string(), "--quiet"};
+        if (!args.Flag("no-cache")) {
+          command.insert(command.end(),
+                         {"--cache", cache_dir.string(), "--cache-limit-gb", cache_limit});
+        }
+        pool.Start(next, command, dir / "stdout.log", dir / "stderr.log");
+        ++next;
+      }
+      const ChildExit exit = pool.WaitAny();
+      const SweepRun& run = *todo[exit.token];
+      child_wall_s += exit.wall_s;
+      const double store_start = MonotonicSeconds();
+      reports::RunRecord record =
+          RecordOfFinishedRun(run, spec.name, code_version, exit, out_dir / "runs" / run.id);
+      record.host = Hostname();
+      record.finished_at = UtcNow();
+      store.WriteRun(record);
+      store_s += MonotonicSeconds() - store_start;
+      for (const auto& [stage, c] : record.cache.items()) {
+        cache_totals[stage].hits += c.value("hits", 0);
+        cache_totals[stage].misses += c.value("misses", 0);
+      }
+      if (record.status == "ok") {
+        ++done;
+      } else {
+        ++failed;
+        failures.push_back(run.id + ": " + record.error);
+      }
+      bar.Update(static_cast<double>(done + failed) / static_cast<double>(todo.size()), detail());
+    }
+    bar.Finish(detail());
+    const double wall_s = MonotonicSeconds() - sweep_start;
+
+    std::printf("sweep %s: %zu runs ok, %zu failed, %zu skipped (already complete); wall %.1f s\n",
+                spec.name.c_str(), done, failed, runs.size() - todo.size(), wall_s);
+    for (const auto& [stage, c] : cache_totals) {
+      std::printf("  cache %-8s %d hits, %d misses\n", stage.c_str(), c.hits, c.misses);
+    }
+    if (!todo.empty()) {
+      std::printf("  overhead per run: expansion %.3f s, store %.3f s, outside the runs %.3f s\n",
+                  expand_s / static_cast<double>(all.size()),
+                  store_s / static_cast<double>(todo.size()),
+                  jobs == 1 ? (wall_s - child_wall_s) / static_cast<double>(todo.size()) : 0.0);
+    }
+    std::printf("  store: %s\n", store_file.c_str());
+    for (const std::string& f : failures) std::printf("  FAILED %s\n", f.c_str());
+    return failed > 0 ? 1 : 0;
+  } catch (...) {
+    return ExitCodeForCurrentException("sweep");
+  }
+}
+
+}  // namespace statebench::app
