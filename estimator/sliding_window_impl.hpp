@@ -37,6 +37,7 @@ struct SlidingWindowSmoother::Impl {
   struct Factor {
     FactorKind kind;
     FactorRecord record;
+    ceres::ResidualBlockId id = nullptr;
   };
 
   // One state; held by unique_ptr so the parameter block addresses never move. Factors are
@@ -88,8 +89,8 @@ struct SlidingWindowSmoother::Impl {
 
   void AddFactor(Node& anchor, FactorKind kind, ceres::CostFunction* cost,
                  ceres::LossFunction* loss, std::vector<double*> blocks) {
-    problem.AddResidualBlock(cost, loss, blocks);
-    anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}});
+    const ceres::ResidualBlockId id = problem.AddResidualBlock(cost, loss, blocks);
+    anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}, id});
   }
 
   // Latest state with t_ns <= t, or nullptr if t is before the window.
@@ -242,7 +243,12 @@ struct SlidingWindowSmoother::Impl {
 
     auto* prior = new MarginalizationPrior(next.x, kept.H, kept.g);
     AddFactor(next, FactorKind::kPrior, prior, nullptr, next.Blocks());
-    for (double* block : old.Blocks()) problem.RemoveParameterBlock(block);  // and its factors
+    // The old state's factors go first, in the order they were added: removing a parameter
+    // block removes its residual blocks in the order of a hash set of pointers, which would
+    // reorder the rest of the problem (and the floating-point sums of every later solve) by
+    // heap addresses.
+    for (const Factor& f : old.factors) problem.RemoveResidualBlock(f.id);
+    for (double* block : old.Blocks()) problem.RemoveParameterBlock(block);
     marginalized.push_back(old.State());
     states.pop_front();
     const TimeNs t_oldest = states.front()->t_ns;

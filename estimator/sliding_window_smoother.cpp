@@ -135,16 +135,11 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   if (!initialized()) return out;
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  // Eliminate the blocks in the order they were added. Without an ordering Ceres sorts them by
-  // their addresses (ParameterBlockOrdering holds std::set<double*>), so the floating-point
-  // result would change with the heap layout and two runs of the same input could differ.
-  std::vector<double*> blocks;
-  m.problem.GetParameterBlocks(&blocks);
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    ordering->AddElementToGroup(blocks[i], static_cast<int>(i));
-  }
-  options.linear_solver_ordering = ordering;
+  // Eigen's sparse Cholesky, not SuiteSparse's: CHOLMOD's supernodal factorisation calls the
+  // system BLAS, whose kernels sum in an order that follows the data's addresses, so two runs of
+  // the same input differed in their last bits with the heap layout. Eigen's is as fast here
+  // (windows of tens of states) and gives the same bits wherever the data lie.
+  options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   options.max_num_iterations = m.options.max_iterations;
   options.initial_trust_region_radius = m.options.initial_trust_region_radius;
   options.num_threads = m.options.num_threads;
