@@ -98,8 +98,8 @@ std::vector<std::pair<std::string, double>> FlattenMetrics(const nlohmann::json&
 // Timing figures (solve times): they vary from one execution of a run to the next.
 bool IsTimingMetric(const std::string& name);
 
-// Two values of one metric agree: equal to 1e-9 relative (the factor graph's last bits depend on
-// the memory layout, docs/sweeps.md "Reproducibility"), or both missing.
+// Two values of one metric agree: equal to 1e-9 relative (a run repeated on another machine
+// may differ in its last bits through the system's libm), or both missing.
 bool SameMetricValue(double a, double b);
 
 // Merges the stores `inputs` into `output` (created when missing). A run present more than once
