@@ -15,5 +15,6 @@ int RunOdometry(const std::vector<std::string>& args);
 int RunSuite(const std::vector<std::string>& args);
 int RunSweep(const std::vector<std::string>& args);
 int RunResults(const std::vector<std::string>& args);
+int RunCompare(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

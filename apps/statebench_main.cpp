@@ -20,6 +20,7 @@ constexpr const char* kUsage =
     "                                     parallel; Table I of the paper beside ours\n"
     "  sweep SWEEP.yaml --out DIR         Monte Carlo sweep: many runs into a results store\n"
     "  results summary|merge DB ...       statistics of a results store; merge shard stores\n"
+    "  compare BASE CANDIDATE             regression verdicts between two stores or run folders\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
   if (command == "suite") return statebench::app::RunSuite(args);
   if (command == "sweep") return statebench::app::RunSweep(args);
   if (command == "results") return statebench::app::RunResults(args);
+  if (command == "compare") return statebench::app::RunCompare(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

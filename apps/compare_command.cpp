@@ -1,0 +1,104 @@
+// statebench compare BASE CANDIDATE [--thresholds FILE] [--out compare.html]
+//
+// Regression verdicts between two versions (reports/paired_comparison.hpp, docs/regression.md):
+// BASE and CANDIDATE are results stores (a .db file, or a sweep's --out folder holding
+// results.db) or run folders (holding run.json).
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "apps/cli_args.hpp"
+#include "apps/command_support.hpp"
+#include "apps/commands.hpp"
+#include "core/error.hpp"
+#include "reports/paired_comparison.hpp"
+#include "reports/results_store.hpp"
+
+namespace statebench::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    "usage: statebench compare BASE CANDIDATE [--thresholds FILE] [--out compare.html]\n"
+    "  BASE and CANDIDATE: results stores (file, or a sweep folder with results.db) or run\n"
+    "  folders (with run.json). Runs are paired by scenario, parameters and seed; per estimator\n"
+    "  and metric of the thresholds file (default scenarios/regression/thresholds.yaml): the\n"
+    "  paired differences, a Wilcoxon signed-rank test, a bootstrap interval of the median\n"
+    "  difference and a verdict (better / worse / no significant change). Prints a Markdown\n"
+    "  summary, writes the HTML with --out. Exit code: 0 no metric worse, 1 some metric worse,\n"
+    "  2 bad input (no run in common, a bad thresholds file), 3 another failure.\n";
+
+// The runs of a store or of a run folder.
+std::vector<reports::RunRecord> LoadRuns(const fs::path& where) {
+  std::error_code ec;
+  if (fs::is_directory(where, ec)) {
+    if (fs::is_regular_file(where / "results.db", ec)) {
+      return reports::ResultsStore(where / "results.db").Runs();
+    }
+    const fs::path summary_file = where / "run.json";
+    std::ifstream in(summary_file);
+    if (!in) {
+      throw InputError(where.string() + ": neither a results store (results.db) nor a run "
+                       "folder (run.json)");
+    }
+    nlohmann::json summary;
+    try {
+      summary = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(summary_file.string() + ": not JSON: " + e.what());
+    }
+    reports::RunRecord run;
+    run.id = where.filename().string();
+    run.scenario = summary.value("scenario", "");
+    run.seed = summary.value("seed", std::uint64_t{0});
+    run.status = "ok";
+    for (const nlohmann::json& e : summary.value("estimators", nlohmann::json::array())) {
+      const std::string label = e.value("label", "");
+      for (const auto& [name, value] : reports::FlattenMetrics(e.value("metrics", nlohmann::json{}))) {
+        run.metrics.push_back({label, name, value});
+      }
+    }
+    return {run};
+  }
+  if (!fs::is_regular_file(where, ec)) throw InputError(where.string() + ": no such store or run folder");
+  return reports::ResultsStore(where).Runs();
+}
+
+fs::path DefaultThresholds() {
+  const char* source = std::getenv("STATEBENCH_SOURCE_DIR");
+  return fs::path(source ? source : ".") / "scenarios" / "regression" / "thresholds.yaml";
+}
+
+}  // namespace
+
+int RunCompare(const std::vector<std::string>& argv) {
+  const auto parsed =
+      ParseCommand({"compare", kUsage, {}, {"thresholds", "out"}, 2, {}}, argv);
+  if (const int* code = std::get_if<int>(&parsed)) return *code;
+  const CliArgs& args = std::get<CliArgs>(parsed);
+  try {
+    const fs::path base = args.positional().at(0);
+    const fs::path candidate = args.positional().at(1);
+    const reports::RegressionThresholds thresholds = reports::LoadRegressionThresholds(
+        args.Option("thresholds") ? fs::path(*args.Option("thresholds")) : DefaultThresholds());
+    const reports::Comparison c =
+        reports::CompareRuns(LoadRuns(base), LoadRuns(candidate), thresholds);
+    std::printf("%s", reports::ComparisonMarkdown(c, base.string(), candidate.string()).c_str());
+    if (const auto out = args.Option("out")) {
+      std::ofstream html(*out);
+      html << reports::ComparisonHtml(c, base.string(), candidate.string());
+      if (!html) throw InputError(*out + ": cannot write");
+    }
+    return c.AnyWorse() ? 1 : 0;
+  } catch (...) {
+    // 1 means "worse", so a CI gate can tell a regression from a failure: bad input is 2,
+    // anything else 3.
+    const int code = ExitCodeForCurrentException("compare");
+    return code == 1 ? 3 : code;
+  }
+}
+
+}  // namespace statebench::app
