@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -19,17 +20,16 @@ double MonotonicSeconds() {
       .count();
 }
 
-void ProcessPool::Start(std::size_t token, const std::vector<std::string>& argv,
-                        const std::filesystem::path& stdout_file,
-                        const std::filesystem::path& stderr_file) {
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
+void ProcessPool::StartFunction(std::size_t token, const std::function<int()>& body,
+                                const std::filesystem::path& stdout_file,
+                                const std::filesystem::path& stderr_file) {
+  // What the parent has buffered must not be written a second time by the child.
+  std::fflush(stdout);
+  std::fflush(stderr);
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
   if (pid == 0) {
-    // Child: only async-signal-safe calls until exec.
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(126);
     const int out = open(stdout_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -39,10 +39,17 @@ void ProcessPool::Start(std::size_t token, const std::vector<std::string>& argv,
     dup2(err, STDERR_FILENO);
     close(out);
     close(err);
-    execv(args[0], args.data());
-    const char message[] = "statebench sweep: cannot execute the run program\n";
-    (void)!write(STDERR_FILENO, message, sizeof(message) - 1);
-    _exit(127);
+    int code = 1;
+    try {
+      code = body();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+    } catch (...) {
+      std::fprintf(stderr, "error: unknown failure\n");
+    }
+    std::fflush(stdout);
+    std::fflush(stderr);
+    _exit(code);  // no destructors or atexit handlers of the parent's objects
   }
   children_[pid] = {token, MonotonicSeconds()};
 }

@@ -45,6 +45,7 @@ struct Group {
   std::vector<std::string> axis_values;
   std::size_t runs = 0;
   std::size_t failed = 0;
+  std::size_t unavailable = 0;  // ok runs where the estimator compared no epoch (never started)
   std::map<std::string, std::vector<double>> values;  // metric -> one value per ok run
 };
 
@@ -102,6 +103,16 @@ std::vector<Group> GroupRuns(const std::vector<reports::RunRecord>& runs,
         ++g.failed;
         continue;
       }
+      // An estimator that never produced an estimate scores 0 everywhere in metrics.json; its
+      // figures are unavailable, not perfect.
+      bool compared_any = true;
+      for (const reports::MetricValue& m : r.metrics) {
+        if (m.estimator == estimator && m.name == "compared") compared_any = m.value > 0.0;
+      }
+      if (!compared_any) {
+        ++g.unavailable;
+        continue;
+      }
       for (const std::string& metric : metrics) {
         double value = std::nan("");
         for (const reports::MetricValue& m : r.metrics) {
@@ -141,7 +152,7 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
   if (format == "csv") {
     std::printf("estimator");
     for (const std::string& axis : by) std::printf(",%s", axis.c_str());
-    std::printf(",runs,failed,metric,count,mean,mean_ci_low,mean_ci_high,median,p95,max,"
+    std::printf(",runs,failed,unavailable,metric,count,mean,mean_ci_low,mean_ci_high,median,p95,max,"
                 "anees_low,anees_high\n");
   }
   for (const std::string& metric : metrics) {
@@ -152,16 +163,16 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
                        : "");
       std::string head = "| estimator";
       for (const std::string& axis : by) head += " | " + axis;
-      head += " | runs | failed | mean | 95% CI of mean | median | p95 | max |";
+      head += " | runs | failed | no estimate | mean | 95% CI of mean | median | p95 | max |";
       if (nees) head += " ANEES bounds | consistent |";
       if (format == "md") {
         std::printf("%s\n|", head.c_str());
-        const std::size_t columns = 7 + by.size() + (nees ? 2 : 0) + 1;
+        const std::size_t columns = 8 + by.size() + (nees ? 2 : 0) + 1;
         for (std::size_t c = 0; c < columns; ++c) std::printf("---|");
         std::printf("\n");
       } else {
-        std::printf("%-28s %5s %6s %10s %23s %10s %10s %10s%s\n", "estimator / axes", "runs",
-                    "failed", "mean", "95% CI of mean", "median", "p95", "max",
+        std::printf("%-28s %5s %6s %6s %10s %23s %10s %10s %10s%s\n", "estimator / axes",
+                    "runs", "failed", "no est", "mean", "95% CI of mean", "median", "p95", "max",
                     nees ? "   ANEES bounds      consistent" : "");
       }
     }
@@ -182,12 +193,13 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
       if (format == "csv") {
         std::printf("%s", g.estimator.c_str());
         for (const std::string& v : g.axis_values) std::printf(",%s", v.c_str());
-        std::printf(",%zu,%zu,%s,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", g.runs,
-                    g.failed, metric.c_str(), s.count, s.mean, s.mean_ci_low, s.mean_ci_high,
+        std::printf(",%zu,%zu,%zu,%s,%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                    g.runs, g.failed, g.unavailable, metric.c_str(), s.count, s.mean, s.mean_ci_low, s.mean_ci_high,
                     s.median, s.p95, s.max, bounds.low, bounds.high);
       } else if (format == "json") {
         nlohmann::json row = {{"estimator", g.estimator}, {"runs", g.runs},
-                              {"failed", g.failed},       {"metric", metric},
+                              {"failed", g.failed},       {"unavailable", g.unavailable},
+                              {"metric", metric},
                               {"count", s.count},         {"mean", s.mean},
                               {"mean_ci", {s.mean_ci_low, s.mean_ci_high}},
                               {"median", s.median},       {"p95", s.p95},
@@ -198,14 +210,14 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
       } else if (format == "md") {
         std::printf("| %s", g.estimator.c_str());
         for (const std::string& v : g.axis_values) std::printf(" | %s", v.c_str());
-        std::printf(" | %zu | %zu | %s | %s | %s | %s | %s |", g.runs, g.failed,
+        std::printf(" | %zu | %zu | %zu | %s | %s | %s | %s | %s |", g.runs, g.failed, g.unavailable,
                     Num(s.mean).c_str(), ci.c_str(), Num(s.median).c_str(), Num(s.p95).c_str(),
                     Num(s.max).c_str());
         if (nees) std::printf(" %s | %s |", bound_text.c_str(), verdict.c_str());
         std::printf("\n");
       } else {
-        std::printf("%-28s %5zu %6zu %10s %23s %10s %10s %10s", Label(g).c_str(), g.runs,
-                    g.failed, Num(s.mean).c_str(), ci.c_str(), Num(s.median).c_str(),
+        std::printf("%-28s %5zu %6zu %6zu %10s %23s %10s %10s %10s", Label(g).c_str(), g.runs,
+                    g.failed, g.unavailable, Num(s.mean).c_str(), ci.c_str(), Num(s.median).c_str(),
                     Num(s.p95).c_str(), Num(s.max).c_str());
         if (nees) std::printf("   %-17s %s", bound_text.c_str(), verdict.c_str());
         std::printf("\n");

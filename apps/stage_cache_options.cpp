@@ -1,6 +1,5 @@
 #include "apps/stage_cache_options.hpp"
 
-#include <cstdlib>
 #include <stdexcept>
 
 #include "core/content_hash.hpp"
@@ -21,11 +20,8 @@ std::unique_ptr<StageCache> OpenStageCache(const CliArgs& args) {
 }
 
 const std::string& BuildIdentity() {
-  // A sweep hashes its executable once and hands the result to the runs it starts from it.
-  static const std::string identity = [] {
-    const char* given = std::getenv("STATEBENCH_BUILD_IDENTITY");
-    return given && *given ? std::string(given) : Sha256OfFile("/proc/self/exe");
-  }();
+  // A sweep hashes it once; the runs it forks inherit the value.
+  static const std::string identity = Sha256OfFile("/proc/self/exe");
   return identity;
 }
 

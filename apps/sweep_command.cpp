@@ -174,10 +174,7 @@ int RunSweep(const std::vector<std::string>& argv) {
         args.Option("cache") ? fs::path(*args.Option("cache")) : DefaultCacheDir();
     const std::string cache_limit =
         args.Option("cache-limit-gb").value_or(std::to_string(kDefaultCacheLimitGb));
-    char self[4096] = {};
-    const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-    if (n <= 0) throw std::runtime_error("cannot find the statebench executable");
-    setenv("STATEBENCH_BUILD_IDENTITY", BuildIdentity().c_str(), 1);
+    BuildIdentity();  // hashed once here, inherited by every run
 
     std::fprintf(stderr, "sweep %s: %zu runs (%zu already complete), %d at a time; store %s\n",
                  spec.name.c_str(), runs.size(), runs.size() - todo.size(), jobs,
@@ -210,13 +207,16 @@ int RunSweep(const std::vector<std::string>& argv) {
         fs::remove_all(dir, ec);  // an interrupted attempt
         fs::create_directories(dir);
         std::ofstream(dir / "scenario.yaml") << run.scenario_yaml;
-        std::vector<std::string> command = {self, "run", (dir / "scenario.yaml").string(),
-                                            "--out", dir.string(), "--quiet"};
+        std::vector<std::string> run_args = {(dir / "scenario.yaml").string(), "--out",
+                                             dir.string(), "--quiet"};
         if (!args.Flag("no-cache")) {
-          command.insert(command.end(),
-                         {"--cache", cache_dir.string(), "--cache-limit-gb", cache_limit});
+          run_args.insert(run_args.end(),
+                          {"--cache", cache_dir.string(), "--cache-limit-gb", cache_limit});
         }
-        pool.Start(next, command, dir / "stdout.log", dir / "stderr.log");
+        // `statebench run` in a child process forked from this one (libsumo: one simulation
+        // per process; a crash stays in its run), without loading the program again.
+        pool.StartFunction(next, [run_args] { return RunRun(run_args); }, dir / "stdout.log",
+                           dir / "stderr.log");
         ++next;
       }
       const ChildExit exit = pool.WaitAny();

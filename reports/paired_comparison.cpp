@@ -60,10 +60,12 @@ std::vector<Row> Rows(const Comparison& c) {
   for (const MetricComparison& m : c.metrics) {
     char p[32];
     std::snprintf(p, sizeof(p), "%.3g", m.p_value);
+    char interval[80];
+    std::snprintf(interval, sizeof(interval), "[%s, %s]", Num(m.difference_interval.low).c_str(),
+                  Num(m.difference_interval.high).c_str());
     rows.push_back({m.estimator, m.metric, std::to_string(m.pairs), Num(m.base_median),
-                    Num(m.candidate_median), Num(m.median_difference),
-                    "[" + Num(m.difference_interval.low) + ", " + Num(m.difference_interval.high) + "]",
-                    p, Num(m.threshold), VerdictName(m.verdict)});
+                    Num(m.candidate_median), Num(m.median_difference), interval, p,
+                    Num(m.threshold), VerdictName(m.verdict)});
   }
   return rows;
 }
@@ -227,12 +229,16 @@ Comparison CompareRuns(const std::vector<RunRecord>& base, const std::vector<Run
                      "parameters and seed): " + std::to_string(c.base_runs) + " base runs, " +
                      std::to_string(c.candidate_runs) + " candidate runs");
   }
+  // A metric of an estimator that compared no epoch (never started) is unavailable, not 0.
   const auto value_of = [](const RunRecord& r, const std::string& estimator,
                            const std::string& metric) {
+    double value = std::nan("");
     for (const MetricValue& m : r.metrics) {
-      if (m.estimator == estimator && m.name == metric) return m.value;
+      if (m.estimator != estimator) continue;
+      if (m.name == "compared" && !(m.value > 0.0)) return std::nan("");
+      if (m.name == metric) value = m.value;
     }
-    return std::nan("");
+    return value;
   };
   std::set<std::string> estimators;
   for (const auto& [b, k] : pairs) {

@@ -150,7 +150,9 @@ Walk WalkPath(const YAML::Node& root, const std::string& path) {
       }
       YAML::Node element = node[index];
       node.reset(element);
-      walked += "[" + std::to_string(index) + "]";
+      walked += '[';
+      walked += std::to_string(index);
+      walked += ']';
     }
   }
   throw std::invalid_argument("path '" + path + "' names no value");

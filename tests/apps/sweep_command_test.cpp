@@ -164,7 +164,7 @@ TEST_F(SweepCommandTest, KilledAndResumedOrShardedSweepsGiveTheSameStore) {
   const Outcome summary = Statebench("results summary " + (dir_ / "merged.db").string() +
                                      " --by window_s --format csv");
   ASSERT_EQ(summary.exit_code, 0) << summary.output;
-  EXPECT_NE(summary.output.find("factor_graph,1.0,2,0,rmse.x_m,2,"), std::string::npos)
+  EXPECT_NE(summary.output.find("factor_graph,1.0,2,0,0,rmse.x_m,2,"), std::string::npos)
       << summary.output;
 }
 
