@@ -23,6 +23,7 @@ double MonotonicSeconds() {
 void ProcessPool::StartFunction(std::size_t token, const std::function<int()>& body,
                                 const std::filesystem::path& stdout_file,
                                 const std::filesystem::path& stderr_file) {
+  const double begin_s = MonotonicSeconds();
   // What the parent has buffered must not be written a second time by the child.
   std::fflush(stdout);
   std::fflush(stderr);
@@ -51,7 +52,9 @@ void ProcessPool::StartFunction(std::size_t token, const std::function<int()>& b
     std::fflush(stderr);
     _exit(code);  // no destructors or atexit handlers of the parent's objects
   }
-  children_[pid] = {token, MonotonicSeconds()};
+  const double now_s = MonotonicSeconds();
+  children_[pid] = {token, now_s};
+  start_s_ += now_s - begin_s;
 }
 
 ChildExit ProcessPool::WaitAny() {

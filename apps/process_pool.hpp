@@ -38,6 +38,8 @@ class ProcessPool {
   // Waits for one child to end.
   ChildExit WaitAny();
   std::size_t running() const { return children_.size(); }
+  // Seconds the parent spent starting children (fork included), in all.
+  double start_s() const { return start_s_; }
 
  private:
   struct Child {
@@ -45,6 +47,7 @@ class ProcessPool {
     double start_s = 0.0;
   };
   std::map<pid_t, Child> children_;
+  double start_s_ = 0.0;
 };
 
 // Seconds on a monotonic clock.

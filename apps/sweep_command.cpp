@@ -250,10 +250,11 @@ int RunSweep(const std::vector<std::string>& argv) {
       std::printf("  cache %-8s %d hits, %d misses\n", stage.c_str(), c.hits, c.misses);
     }
     if (!todo.empty()) {
-      std::printf("  overhead per run: expansion %.3f s, store %.3f s, outside the runs %.3f s\n",
-                  expand_s / static_cast<double>(all.size()),
-                  store_s / static_cast<double>(todo.size()),
-                  jobs == 1 ? (wall_s - child_wall_s) / static_cast<double>(todo.size()) : 0.0);
+      const double n = static_cast<double>(todo.size());
+      std::printf("  overhead per run: expansion %.4f s, process start %.4f s, store %.4f s",
+                  expand_s / static_cast<double>(all.size()), pool.start_s() / n, store_s / n);
+      if (jobs == 1) std::printf(", outside the runs in all %.4f s", (wall_s - child_wall_s) / n);
+      std::printf("\n");
     }
     std::printf("  store: %s\n", store_file.c_str());
     for (const std::string& f : failures) std::printf("  FAILED %s\n", f.c_str());
