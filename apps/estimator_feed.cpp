@@ -61,6 +61,7 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
     }
   }
   if (!output) return std::nullopt;
+  ++imu_stamps_;
   return imu->header.stamp_ns;
 }
 
@@ -83,6 +84,19 @@ std::vector<EstimatorScore> EstimatorFeed::Finish(
       s.metrics_json["during_outages"] =
           DuringOutages(f.estimates, reference, outages, s.diagnostics.initialized_at_ns);
     }
+    // What the estimator delivered: an estimate at how many of the IMU stamps it was offered,
+    // and how many of those were finite (before initialisation there is none).
+    std::size_t finite = 0;
+    for (const StateEstimate& e : f.estimates) {
+      finite += e.state.p_world.allFinite() && e.state.v_world.allFinite() &&
+                e.state.q_world_imu.coeffs().allFinite();
+    }
+    s.metrics_json["availability"] = {
+        {"imu_stamps", imu_stamps_},
+        {"estimates", f.estimates.size()},
+        {"finite_estimates", finite},
+        {"fraction", imu_stamps_ > 0 ? static_cast<double>(finite) / static_cast<double>(imu_stamps_)
+                                     : 0.0}};
     scores.push_back(std::move(s));
   }
   return scores;

@@ -65,6 +65,7 @@ class EstimatorFeed {
   std::string imu_id_;
   std::optional<LocalEnuFrame> frame_;
   std::vector<FedEstimator> estimators_;
+  std::size_t imu_stamps_ = 0;  // output stamps offered to every estimator
 };
 
 // Writes score.metrics_json to dir/metrics.json.

@@ -30,13 +30,13 @@ constexpr const char* kUsage =
     "  interval of the mean, and the average pose NEES over the runs (ANEES) with its two-sided\n"
     "  95 % chi-square bounds for that many runs. Metrics are metrics.json keys joined by dots\n"
     "  (default: rmse.x_m, rmse.y_m, rmse.yaw_rad, rmse.v_longitudinal_mps,\n"
-    "  ape.translation_m.rmse, nees.pose_6dof_mean).\n"
+    "  ape.translation_m.rmse, nees.pose_6dof_mean, availability.fraction).\n"
     "  merge: the runs of every store in one (a run present twice with different results is an\n"
     "  error); shards of one sweep merge into the store the unsharded sweep would have written.\n";
 
 const std::vector<std::string> kDefaultMetrics = {
     "rmse.x_m",         "rmse.y_m", "rmse.yaw_rad", "rmse.v_longitudinal_mps",
-    "ape.translation_m.rmse", "nees.pose_6dof_mean"};
+    "ape.translation_m.rmse", "nees.pose_6dof_mean", "availability.fraction"};
 constexpr const char* kNeesMetric = "nees.pose_6dof_mean";
 constexpr double kPoseNeesDof = 6.0;
 
