@@ -162,6 +162,16 @@ int RunSweep(const std::vector<std::string>& argv) {
                                   " already holds runs: pass --resume to go on with this sweep, "
                                   "or choose another --out");
     }
+    // A store holds one sweep: resuming it with another file (or another version of the file)
+    // would mix runs of two definitions in one summary.
+    for (const reports::SweepRecord& earlier : store.Sweeps()) {
+      if (earlier.definition != ReadText(sweep_file)) {
+        throw std::invalid_argument(
+            store_file.string() + " holds sweep '" + earlier.name + "' of " + earlier.file +
+            " as it read then, not this file: --resume goes on with the same sweep file only "
+            "(choose another --out for a changed sweep)");
+      }
+    }
     store.AddSweep({spec.name, fs::absolute(sweep_file).string(), ReadText(sweep_file),
                     code_version, Hostname(), shards > 1 ? args.Option("shard").value() : "",
                     UtcNow()});
