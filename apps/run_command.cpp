@@ -19,6 +19,7 @@
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/estimator_feed.hpp"
+#include "apps/memory_trace.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
@@ -178,8 +179,12 @@ int RunRun(const std::vector<std::string>& argv) {
     run.SetTruthObserver([&truth](const TruthSample& s) { truth.push_back(s); });
     const double end_s = ToSeconds(run.truth().end_ns());
     FeedProgress progress("run " + scenario.name, end_s, quiet);
+    MemoryTrace memory;
     while (const auto m = run.Next()) {
-      if (const auto t = feed.Feed(*m)) progress.Epoch(*t);
+      if (const auto t = feed.Feed(*m)) {
+        progress.Epoch(*t);
+        memory.At(*t);
+      }
     }
     progress.Finish();
     const double wall_s =
@@ -223,6 +228,7 @@ int RunRun(const std::vector<std::string>& argv) {
                                     {"wall_time_s", wall_s},
                                     {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
                                     {"estimators", estimators}};
+    summary["memory"] = memory.Json();
     if (cache) {
       summary["cache"] = CacheCountsJson(*cache);
       cache->Prune();
