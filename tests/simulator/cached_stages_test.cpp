@@ -19,7 +19,11 @@ namespace fs = std::filesystem;
 
 class CachedStagesTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = sim::testing::FreshWorkDir("cached_stages", "all"); }
+  // One folder per test: ctest runs the tests of this file in parallel processes.
+  void SetUp() override {
+    dir_ = sim::testing::FreshWorkDir(
+        "cached_stages", ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
   void TearDown() override { fs::remove_all(dir_); }
 
   // The whole stream as bytes, and the cache's counts after the run.
