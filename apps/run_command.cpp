@@ -20,6 +20,7 @@
 #include "apps/commands.hpp"
 #include "apps/estimator_feed.hpp"
 #include "apps/memory_trace.hpp"
+#include "apps/scored_outages.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
@@ -106,29 +107,6 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
   }
 }
 
-// GNSS outages every receiver of the setup has (the scenario's `faults:` give them to all
-// receivers unless they name some), clipped to the run: the windows scored as outages.
-std::vector<reports::OutageWindow> SharedGnssOutages(const sensors::SensorSetup& setup,
-                                                     TimeNs end_ns) {
-  const auto receivers = setup.OfType(sensors::SensorType::kGnss);
-  std::vector<reports::OutageWindow> windows;
-  if (receivers.empty()) return windows;
-  for (const sensors::GnssOutage& o :
-       std::get<sensors::GnssOptions>(receivers.front()->options).outages) {
-    const bool shared = std::all_of(receivers.begin(), receivers.end(), [&o](const auto* r) {
-      const auto& outages = std::get<sensors::GnssOptions>(r->options).outages;
-      return std::any_of(outages.begin(), outages.end(), [&o](const sensors::GnssOutage& p) {
-        return p.start_s == o.start_s && p.end_s == o.end_s;
-      });
-    });
-    const TimeNs begin_ns = FromSeconds(o.start_s);
-    if (!shared || begin_ns >= end_ns) continue;
-    windows.push_back(
-        {begin_ns, std::isfinite(o.end_s) ? std::min(FromSeconds(o.end_s), end_ns) : end_ns});
-  }
-  return windows;
-}
-
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
@@ -192,7 +170,7 @@ int RunRun(const std::vector<std::string>& argv) {
 
     const auto reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
     const std::vector<reports::OutageWindow> outages =
-        SharedGnssOutages(run.sensors().setup, run.truth().end_ns());
+        ScoredOutages(run.sensors(), run.truth().end_ns());
     const double distance_m = run.truth().summary().distance_m;
     std::printf("%s (seed %llu, %.0f s, %.0f m, wall %.1f s)\n", scenario.name.c_str(),
                 static_cast<unsigned long long>(scenario.seed), end_s, distance_m, wall_s);
