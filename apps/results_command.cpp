@@ -13,6 +13,7 @@
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "core/error.hpp"
+#include "reports/figure_format.hpp"
 #include "reports/results_store.hpp"
 #include "reports/sweep_statistics.hpp"
 
@@ -131,14 +132,6 @@ std::vector<Group> GroupRuns(const std::vector<reports::RunRecord>& runs,
   return out;
 }
 
-std::string Num(double v) {
-  if (!std::isfinite(v)) return "-";
-  char text[32];
-  const double a = std::abs(v);
-  std::snprintf(text, sizeof(text), a != 0.0 && (a < 1e-3 || a >= 1e5) ? "%.3e" : "%.4g", v);
-  return text;
-}
-
 std::string Label(const Group& g) {
   std::string label = g.estimator;
   for (const std::string& v : g.axis_values) label += " " + v;
@@ -188,8 +181,8 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
                   : s.mean > bounds.high ? "no (over-confident)"
                                          : "yes";
       }
-      const std::string ci = "[" + Num(s.mean_ci_low) + ", " + Num(s.mean_ci_high) + "]";
-      const std::string bound_text = "[" + Num(bounds.low) + ", " + Num(bounds.high) + "]";
+      const std::string ci = "[" + reports::FormatFigure(s.mean_ci_low) + ", " + reports::FormatFigure(s.mean_ci_high) + "]";
+      const std::string bound_text = "[" + reports::FormatFigure(bounds.low) + ", " + reports::FormatFigure(bounds.high) + "]";
       if (format == "csv") {
         std::printf("%s", g.estimator.c_str());
         for (const std::string& v : g.axis_values) std::printf(",%s", v.c_str());
@@ -211,14 +204,14 @@ int PrintSummary(const std::vector<reports::RunRecord>& runs, const std::vector<
         std::printf("| %s", g.estimator.c_str());
         for (const std::string& v : g.axis_values) std::printf(" | %s", v.c_str());
         std::printf(" | %zu | %zu | %zu | %s | %s | %s | %s | %s |", g.runs, g.failed, g.unavailable,
-                    Num(s.mean).c_str(), ci.c_str(), Num(s.median).c_str(), Num(s.p95).c_str(),
-                    Num(s.max).c_str());
+                    reports::FormatFigure(s.mean).c_str(), ci.c_str(), reports::FormatFigure(s.median).c_str(), reports::FormatFigure(s.p95).c_str(),
+                    reports::FormatFigure(s.max).c_str());
         if (nees) std::printf(" %s | %s |", bound_text.c_str(), verdict.c_str());
         std::printf("\n");
       } else {
         std::printf("%-28s %5zu %6zu %6zu %10s %23s %10s %10s %10s", Label(g).c_str(), g.runs,
-                    g.failed, g.unavailable, Num(s.mean).c_str(), ci.c_str(), Num(s.median).c_str(),
-                    Num(s.p95).c_str(), Num(s.max).c_str());
+                    g.failed, g.unavailable, reports::FormatFigure(s.mean).c_str(), ci.c_str(), reports::FormatFigure(s.median).c_str(),
+                    reports::FormatFigure(s.p95).c_str(), reports::FormatFigure(s.max).c_str());
         if (nees) std::printf("   %-17s %s", bound_text.c_str(), verdict.c_str());
         std::printf("\n");
       }

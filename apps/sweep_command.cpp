@@ -26,6 +26,7 @@
 #include "apps/sweep_run_record.hpp"
 #include "core/error.hpp"
 #include "reports/results_store.hpp"
+#include "simulator/xml_scan.hpp"
 
 namespace statebench::app {
 namespace {
@@ -80,13 +81,6 @@ std::string UtcNow() {
   char text[32];
   std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
   return text;
-}
-
-std::string ReadText(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 void PrintDryRun(const std::vector<SweepRun>& runs, std::size_t total) {
@@ -164,15 +158,16 @@ int RunSweep(const std::vector<std::string>& argv) {
     }
     // A store holds one sweep: resuming it with another file (or another version of the file)
     // would mix runs of two definitions in one summary.
+    const std::string definition = sim::ReadTextFile(sweep_file);
     for (const reports::SweepRecord& earlier : store.Sweeps()) {
-      if (earlier.definition != ReadText(sweep_file)) {
+      if (earlier.definition != definition) {
         throw std::invalid_argument(
             store_file.string() + " holds sweep '" + earlier.name + "' of " + earlier.file +
             " as it read then, not this file: --resume goes on with the same sweep file only "
             "(choose another --out for a changed sweep)");
       }
     }
-    store.AddSweep({spec.name, fs::absolute(sweep_file).string(), ReadText(sweep_file),
+    store.AddSweep({spec.name, fs::absolute(sweep_file).string(), definition,
                     code_version, Hostname(), shards > 1 ? args.Option("shard").value() : "",
                     UtcNow()});
     std::vector<const SweepRun*> todo;

@@ -2,37 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <set>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "core/yaml_node.hpp"
+#include "reports/figure_format.hpp"
 
 namespace statebench::reports {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double Quantile(const std::vector<double>& sorted, double q) {
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const auto i = static_cast<std::size_t>(std::floor(pos));
-  const double f = pos - static_cast<double>(i);
-  return i + 1 < sorted.size() ? sorted[i] + f * (sorted[i + 1] - sorted[i]) : sorted[i];
-}
-
-std::string Num(double v) {
-  if (!std::isfinite(v)) return "-";
-  char text[32];
-  const double a = std::abs(v);
-  std::snprintf(text, sizeof(text), a != 0.0 && (a < 1e-3 || a >= 1e5) ? "%.3e" : "%.4g", v);
-  return text;
-}
 
 std::string Escape(const std::string& s) {
   std::string out;
@@ -61,11 +39,11 @@ std::vector<Row> Rows(const Comparison& c) {
     char p[32];
     std::snprintf(p, sizeof(p), "%.3g", m.p_value);
     char interval[80];
-    std::snprintf(interval, sizeof(interval), "[%s, %s]", Num(m.difference_interval.low).c_str(),
-                  Num(m.difference_interval.high).c_str());
-    rows.push_back({m.estimator, m.metric, std::to_string(m.pairs), Num(m.base_median),
-                    Num(m.candidate_median), Num(m.median_difference), interval, p,
-                    Num(m.threshold), VerdictName(m.verdict)});
+    std::snprintf(interval, sizeof(interval), "[%s, %s]", FormatFigure(m.difference_interval.low).c_str(),
+                  FormatFigure(m.difference_interval.high).c_str());
+    rows.push_back({m.estimator, m.metric, std::to_string(m.pairs), FormatFigure(m.base_median),
+                    FormatFigure(m.candidate_median), FormatFigure(m.median_difference), interval, p,
+                    FormatFigure(m.threshold), VerdictName(m.verdict)});
   }
   return rows;
 }
@@ -160,16 +138,7 @@ double WilcoxonSignedRankP(const std::vector<double>& differences) {
 
 Interval BootstrapMedianInterval(const std::vector<double>& values, std::uint64_t seed,
                                  int resamples) {
-  if (values.empty()) return {std::nan(""), std::nan("")};
-  std::mt19937_64 rng(seed);
-  std::vector<double> medians;
-  std::vector<double> sample(values.size());
-  for (int r = 0; r < resamples; ++r) {
-    for (double& s : sample) s = values[rng() % values.size()];
-    medians.push_back(Median(sample));
-  }
-  std::sort(medians.begin(), medians.end());
-  return {Quantile(medians, 0.025), Quantile(medians, 0.975)};
+  return BootstrapInterval(values, Median, seed, resamples);
 }
 
 const char* VerdictName(Verdict v) {

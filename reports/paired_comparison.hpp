@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "reports/results_store.hpp"
+#include "reports/sweep_statistics.hpp"
 
 namespace statebench::reports {
 
@@ -39,10 +40,6 @@ RegressionThresholds LoadRegressionThresholds(const std::filesystem::path& file)
 // above. 1 when there is no non-zero difference.
 double WilcoxonSignedRankP(const std::vector<double>& differences);
 
-struct Interval {
-  double low = 0.0;
-  double high = 0.0;
-};
 // 95 % percentile bootstrap interval of the median (seeded: same input, same interval).
 Interval BootstrapMedianInterval(const std::vector<double>& values, std::uint64_t seed = 1,
                                  int resamples = 2000);

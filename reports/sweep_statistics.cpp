@@ -10,14 +10,6 @@
 namespace statebench::reports {
 namespace {
 
-double Quantile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return std::nan("");
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const auto i = static_cast<std::size_t>(std::floor(pos));
-  const double f = pos - static_cast<double>(i);
-  return i + 1 < sorted.size() ? sorted[i] + f * (sorted[i + 1] - sorted[i]) : sorted[i];
-}
-
 // Regularised lower incomplete gamma P(a, x): series below a + 1, continued fraction above.
 double RegularizedGammaP(double a, double x) {
   if (x <= 0.0) return 0.0;
@@ -51,6 +43,36 @@ double RegularizedGammaP(double a, double x) {
 
 }  // namespace
 
+double SortedQuantile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return std::nan("");
+  const double pos = q * static_cast<double>(sorted.size() - 1);
+  const auto i = static_cast<std::size_t>(std::floor(pos));
+  const double f = pos - static_cast<double>(i);
+  return i + 1 < sorted.size() ? sorted[i] + f * (sorted[i + 1] - sorted[i]) : sorted[i];
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+Interval BootstrapInterval(const std::vector<double>& values,
+                           const std::function<double(const std::vector<double>&)>& statistic,
+                           std::uint64_t seed, int resamples) {
+  if (values.empty()) return {std::nan(""), std::nan("")};
+  std::mt19937_64 rng(seed);
+  std::vector<double> statistics(static_cast<std::size_t>(std::max(resamples, 1)));
+  std::vector<double> sample(values.size());
+  for (double& t : statistics) {
+    for (double& x : sample) x = values[rng() % values.size()];
+    t = statistic(sample);
+  }
+  std::sort(statistics.begin(), statistics.end());
+  return {SortedQuantile(statistics, 0.025), SortedQuantile(statistics, 0.975)};
+}
+
 MetricSummary Summarize(const std::vector<double>& values, std::uint64_t bootstrap_seed,
                         int bootstrap_resamples) {
   std::vector<double> v;
@@ -66,19 +88,18 @@ MetricSummary Summarize(const std::vector<double>& values, std::uint64_t bootstr
   }
   std::sort(v.begin(), v.end());
   s.mean = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  s.median = Quantile(v, 0.5);
-  s.p95 = Quantile(v, 0.95);
+  s.median = SortedQuantile(v, 0.5);
+  s.p95 = SortedQuantile(v, 0.95);
   s.max = v.back();
-  std::mt19937_64 rng(bootstrap_seed);
-  std::vector<double> means(static_cast<std::size_t>(std::max(bootstrap_resamples, 1)));
-  for (double& m : means) {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < v.size(); ++k) sum += v[rng() % v.size()];
-    m = sum / static_cast<double>(v.size());
-  }
-  std::sort(means.begin(), means.end());
-  s.mean_ci_low = Quantile(means, 0.025);
-  s.mean_ci_high = Quantile(means, 0.975);
+  const Interval ci = BootstrapInterval(
+      v,
+      [](const std::vector<double>& sample) {
+        return std::accumulate(sample.begin(), sample.end(), 0.0) /
+               static_cast<double>(sample.size());
+      },
+      bootstrap_seed, bootstrap_resamples);
+  s.mean_ci_low = ci.low;
+  s.mean_ci_high = ci.high;
   return s;
 }
 

@@ -4,9 +4,26 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace statebench::reports {
+
+// Quantile q of sorted values, linear interpolation between order statistics (NaN when empty).
+double SortedQuantile(const std::vector<double>& sorted, double q);
+// The middle value, or the mean of the two middle values (NaN when empty).
+double Median(std::vector<double> values);
+
+struct Interval {
+  double low = 0.0;
+  double high = 0.0;
+};
+// 95 % percentile bootstrap interval of statistic(resample): `resamples` resamples with
+// replacement drawn from a generator seeded with `seed` (same input, same interval). NaN when
+// `values` is empty.
+Interval BootstrapInterval(const std::vector<double>& values,
+                           const std::function<double(const std::vector<double>&)>& statistic,
+                           std::uint64_t seed, int resamples);
 
 struct MetricSummary {
   std::size_t count = 0;  // finite values

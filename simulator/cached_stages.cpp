@@ -2,9 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cstdio>
 
 #include "core/content_hash.hpp"
+#include "core/csv.hpp"
 #include "core/yaml_merge.hpp"
 #include "simulator/sumo_result_io.hpp"
 
@@ -18,8 +18,8 @@ constexpr const char* kResultFile = "sumo_result.bin";
 constexpr const char* kNetFile = "net.net.xml";
 
 std::string Number(double v) {
-  char text[64];
-  std::snprintf(text, sizeof(text), "%.17g", v);
+  std::string text;
+  AppendNumber(text, v);  // shortest round-trip form: equal text, equal bits
   return text;
 }
 
