@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <sstream>
 
 #include "apps/cli_args.hpp"
@@ -21,6 +20,7 @@
 #include "apps/estimator_feed.hpp"
 #include "apps/memory_trace.hpp"
 #include "apps/scored_outages.hpp"
+#include "apps/scenario_estimators.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
@@ -48,65 +48,6 @@ constexpr const char* kUsage =
     "  stream in DIR under a hash of what they depend on and reuses them (same bits; run.json\n"
     "  counts the hits); the least recently used entries go beyond G GB (default 20).\n";
 
-// The entries of `all` that --estimators names, by label or by type, in the list's order.
-std::vector<sim::EstimatorSpec> SelectEstimators(const std::vector<sim::EstimatorSpec>& all,
-                                                 const std::string& option,
-                                                 const sim::Scenario& scenario) {
-  const std::vector<std::string> names = SplitList(option);
-  if (names.empty()) throw std::invalid_argument("--estimators: no estimator named");
-  std::set<std::string> chosen;
-  for (const std::string& name : names) {
-    std::vector<std::string> matches;
-    for (const sim::EstimatorSpec& spec : all) {
-      if (spec.label == name) matches.push_back(spec.label);
-    }
-    const bool by_label = !matches.empty();
-    for (const sim::EstimatorSpec& spec : all) {
-      if (!by_label && spec.type == name) matches.push_back(spec.label);
-    }
-    if (matches.empty()) {
-      std::string labels;
-      for (const sim::EstimatorSpec& spec : all) {
-        labels += (labels.empty() ? "" : ", ") + spec.label;
-      }
-      throw std::invalid_argument("--estimators: '" + name + "' is neither the name nor the " +
-                                  "type of an estimator of " + scenario.file.string() +
-                                  " (names: " + labels + ")");
-    }
-    chosen.insert(matches.begin(), matches.end());
-  }
-  std::vector<sim::EstimatorSpec> selected;
-  for (const sim::EstimatorSpec& spec : all) {
-    if (chosen.count(spec.label)) selected.push_back(spec);
-  }
-  return selected;
-}
-
-// Writes the estimator's merged options to DIR/<label>/estimator_config.yaml and builds the
-// estimator from that file, so the run can be repeated from it. An InputError (a bad override,
-// an option that does not fit the sensor setup) names the written file's line and the
-// scenario's entry.
-std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& spec,
-                                                      const sim::Scenario& scenario,
-                                                      const est::EstimatorSensorSetup& setup,
-                                                      const fs::path& dir) {
-  fs::create_directories(dir);
-  const fs::path config = dir / "estimator_config.yaml";
-  std::ofstream(config) << sim::EstimatorConfigText(spec, scenario);
-  est::EstimatorFiles files;
-  files.options = config;
-  files.vehicle = scenario.vehicle_file;
-  try {
-    return est::MakeEstimator(spec.type, setup, files);
-  } catch (const InputError& e) {
-    const std::string from = spec.config.empty() ? "built-in defaults" : spec.config.string();
-    throw InputError(std::string(e.what()) + "\n  in the options of estimator '" + spec.label +
-                     "' (" + spec.source.where + ": field '" + spec.source.field + "'): " + from +
-                     (spec.overrides ? " with the scenario's overrides" : "") + ", merged into " +
-                     config.string());
-  }
-}
-
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
@@ -127,16 +68,20 @@ int RunRun(const std::vector<std::string>& argv) {
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
     std::vector<sim::EstimatorSpec> specs = sim::ScenarioEstimators(scenario);
     if (const auto option = args->Option("estimators")) {
-      specs = SelectEstimators(specs, *option, scenario);
+      const std::vector<std::string> names = SplitList(*option);
+      if (names.empty()) throw std::invalid_argument("--estimators: no estimator named");
+      try {
+        specs = ChooseEstimators(specs, names, scenario.file.string());
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("--estimators: ") + e.what());
+      }
     }
 
     // Everything that can be checked before the simulation is: scenario, sensor setup (read
     // without running SUMO), each estimator's options and whether they fit the setup, so a typo
     // fails in a second, not after the simulation.
     const sim::ScenarioSensors sensors = sim::LoadScenarioSensors(scenario);
-    const YamlNode setup_node = YamlNode::LoadString(
-        sensors.setup_yaml, sensors.setup.source.empty() ? "sensor setup" : sensors.setup.source);
-    const est::EstimatorSensorSetup setup = est::ParseEstimatorSensorSetup(setup_node);
+    const est::EstimatorSensorSetup setup = EstimatorSetupOf(sensors);
     // In the scenario's ENU frame, whatever origin each estimator chose.
     EstimatorFeed feed(setup.imu_id, LocalEnuFrame(scenario.origin));
     for (const sim::EstimatorSpec& spec : specs) {

@@ -8,13 +8,12 @@
 #include <map>
 #include <random>
 
+#include "apps/scenario_estimators.hpp"
 #include "core/content_hash.hpp"
+#include "core/csv.hpp"
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/yaml_merge.hpp"
-#include "core/yaml_node.hpp"
-#include "estimator/estimator_config.hpp"
-#include "estimator/estimator_factory.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scenario_resolution.hpp"
 #include "simulator/scenario_sensors.hpp"
@@ -50,9 +49,9 @@ YAML::Node Draw(const SweepAxis& axis, std::uint64_t seed) {
       break;
     }
   }
-  char text[64];
-  std::snprintf(text, sizeof(text), "%.17g", v);
-  return YAML::Node(std::string(text));
+  std::string text;
+  AppendNumber(text, v);
+  return YAML::Node(text);
 }
 
 // Each combination of the value axes: indices into their values.
@@ -86,35 +85,32 @@ std::vector<std::vector<std::size_t>> Combinations(const SweepSpec& spec) {
   }
 }
 
-// Keeps the estimators the sweep names (by label, else by type) in the scenario's order.
+// Keeps the estimators the sweep names (as `statebench run --estimators` picks them) in the
+// scenario's order; returns their labels.
 std::vector<std::string> SelectEstimators(YAML::Node& resolved, const SweepSpec& spec,
                                           const std::string& scenario_where) {
-  YAML::Node all = resolved["estimators"];
+  const YAML::Node all = resolved["estimators"];
+  std::vector<sim::EstimatorSpec> specs;
+  for (const YAML::Node& e : all) {
+    sim::EstimatorSpec entry;
+    entry.label = e["name"].as<std::string>();
+    entry.type = e["type"].as<std::string>();
+    specs.push_back(entry);
+  }
+  if (!spec.estimators.empty()) {
+    try {
+      specs = ChooseEstimators(specs, spec.estimators, "the scenario at " + scenario_where);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(spec.estimators_where + ": field 'estimators': " + e.what());
+    }
+  }
   YAML::Node kept(YAML::NodeType::Sequence);
   std::vector<std::string> labels;
-  std::string known;
-  for (const YAML::Node& e : all) {
-    known += (known.empty() ? "" : ", ") + e["name"].as<std::string>();
-  }
-  for (const std::string& wanted : spec.estimators) {
-    bool found = false;
+  for (const sim::EstimatorSpec& chosen : specs) {
     for (const YAML::Node& e : all) {
-      found |= e["name"].as<std::string>() == wanted || e["type"].as<std::string>() == wanted;
+      if (e["name"].as<std::string>() == chosen.label) kept.push_back(e);
     }
-    if (!found) {
-      throw InputError(spec.estimators_where + ": field 'estimators': '" + wanted +
-                       "' is neither the name nor the type of an estimator of the scenario at " +
-                       scenario_where + " (names: " + known + ")");
-    }
-  }
-  for (const YAML::Node& e : all) {
-    const std::string label = e["name"].as<std::string>();
-    const std::string type = e["type"].as<std::string>();
-    bool wanted = spec.estimators.empty();
-    for (const std::string& w : spec.estimators) wanted |= w == label || w == type;
-    if (!wanted) continue;
-    kept.push_back(e);
-    labels.push_back(label);
+    labels.push_back(chosen.label);
   }
   resolved["estimators"] = kept;
   return labels;
@@ -125,16 +121,9 @@ void CheckRunnable(const std::string& yaml, const fs::path& scratch) {
   const fs::path file = scratch / "scenario.yaml";
   std::ofstream(file) << yaml;
   const sim::Scenario scenario = sim::LoadScenario(file);
-  const sim::ScenarioSensors sensors = sim::LoadScenarioSensors(scenario);
-  const YamlNode setup_node = YamlNode::LoadString(sensors.setup_yaml, "sensor setup");
-  const est::EstimatorSensorSetup setup = est::ParseEstimatorSensorSetup(setup_node);
+  const est::EstimatorSensorSetup setup = EstimatorSetupOf(sim::LoadScenarioSensors(scenario));
   for (const sim::EstimatorSpec& spec : sim::ScenarioEstimators(scenario)) {
-    const fs::path config = scratch / (spec.label + ".yaml");
-    std::ofstream(config) << sim::EstimatorConfigText(spec, scenario);
-    est::EstimatorFiles files;
-    files.options = config;
-    files.vehicle = scenario.vehicle_file;
-    est::MakeEstimator(spec.type, setup, files);
+    MakeScenarioEstimator(spec, scenario, setup, scratch / spec.label);
   }
 }
 
