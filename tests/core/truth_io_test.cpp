@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/removed_at_exit.hpp"
+
 namespace statebench {
 namespace {
 
@@ -12,7 +14,7 @@ std::filesystem::path FreshDir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("statebench_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  return dir;
+  return testing::RemovedAtExit(dir);
 }
 
 TruthSample MakeSample(int i) {

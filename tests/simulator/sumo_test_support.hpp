@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/removed_at_exit.hpp"
 
 namespace statebench::sim::testing {
 
@@ -20,11 +21,12 @@ inline std::filesystem::path SourceDir() {
   return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
 }
 
-// An emptied folder <tmp>/statebench_<prefix>_<name> for one run's outputs.
+// An emptied folder <tmp>/statebench_<prefix>_<name> for one run's outputs, removed when the
+// test program ends.
 inline std::filesystem::path FreshWorkDir(const std::string& prefix, const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("statebench_" + prefix + "_" + name);
   std::filesystem::remove_all(dir);
-  return dir;
+  return statebench::testing::RemovedAtExit(dir);
 }
 
 class TempDir {
