@@ -11,6 +11,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
+#include "apps/cpu_profile.hpp"
 #include "apps/estimator_feed.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
@@ -58,6 +59,7 @@ int RunEstimate(const std::vector<std::string>& argv) {
   const std::filesystem::path out_dir = *args->Option("out");
   const bool quiet = args->Flag("quiet");
   const auto wall_start = std::chrono::steady_clock::now();
+  const CpuProfile cpu;
   try {
     sensors::LogReader reader(log_dir);
     const std::filesystem::path setup_file = SetupFileOf(*args, reader, log_dir);
@@ -86,8 +88,18 @@ int RunEstimate(const std::vector<std::string>& argv) {
     feed.Add(name, name, out_dir, est::MakeEstimator(name, setup, files),
              args->Flag("full-covariance"));
     FeedProgress progress("estimate " + log_dir.filename().string(), end_s, quiet);
-    while (const auto m = reader.Next()) {
-      if (const auto t = feed.Feed(*m)) progress.Epoch(*t);
+    const auto next = [&reader] {
+      const StageScope stage(Stage::kReading);
+      return reader.Next();
+    };
+    std::optional<TimeNs> first_ns;
+    std::optional<TimeNs> last_ns;
+    while (const auto m = next()) {
+      if (const auto t = feed.Feed(*m)) {
+        progress.Epoch(*t);
+        if (!first_ns) first_ns = *t;
+        last_ns = *t;
+      }
     }
     progress.Finish();
     const std::vector<reports::ReferenceState> reference =
@@ -101,6 +113,13 @@ int RunEstimate(const std::vector<std::string>& argv) {
     std::printf("%s: %zu estimates at IMU rate -> %s (wall %.1f s)\n",
                 fed.estimator->name().c_str(), fed.estimates.size(), out_dir.string().c_str(),
                 wall_s);
+    // Where the CPU time went (log reading, estimator, writing, scoring), over the logged span.
+    const double logged_s = first_ns ? ToSeconds(*last_ns - *first_ns) : 0.0;
+    nlohmann::json profile = {{"log", log_dir.string()},
+                              {"logged_s", logged_s},
+                              {"wall_time_s", wall_s},
+                              {"cpu", cpu.Json(feed.estimators(), logged_s)}};
+    std::ofstream(out_dir / "profile.json") << profile.dump(2) << "\n";
     if (!truth.empty()) {
       nlohmann::json& j = score.metrics_json;
       j["estimator"] = fed.estimator->name();

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "apps/diagnostics_json.hpp"
+#include "core/stage_profile.hpp"
 #include "reports/metrics_json.hpp"
 
 namespace statebench::app {
@@ -48,17 +49,22 @@ void EstimatorFeed::Add(std::string label, std::string type, const std::filesyst
 }
 
 std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
+  const StageScope stage(Stage::kEstimators);
   const auto* imu = std::get_if<ImuSample>(&m);
   const bool output = imu != nullptr && imu->header.sensor_id == imu_id_;
   for (FedEstimator& f : estimators_) {
+    const StageTimes before = CurrentStageTimes();
     f.estimator->Add(m);
-    if (!output) continue;
-    if (auto e = f.estimator->StateAt(imu->header.stamp_ns)) {
-      if (frame_)
-        e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+    std::optional<StateEstimate> e;
+    if (output) e = f.estimator->StateAt(imu->header.stamp_ns);
+    f.time += CurrentStageTimes() - before;
+    if (!e) continue;
+    if (frame_) e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+    {
+      const StageScope writing(Stage::kWriting);
       f.writer->Write(*e);
-      f.estimates.push_back(*e);
     }
+    f.estimates.push_back(*e);
   }
   if (!output) return std::nullopt;
   ++imu_stamps_;
@@ -68,13 +74,17 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
 std::vector<EstimatorScore> EstimatorFeed::Finish(
     const std::vector<reports::ReferenceState>& reference,
     const std::vector<reports::OutageWindow>& outages) {
+  const StageScope stage(Stage::kScoring);
   std::vector<EstimatorScore> scores;
   for (FedEstimator& f : estimators_) {
-    f.writer->Close();
     EstimatorScore s;
     s.diagnostics = f.estimator->diagnostics();
     s.diagnostics_json = DiagnosticsJson(s.diagnostics);
-    std::ofstream(f.dir / "diagnostics.json") << s.diagnostics_json.dump(2) << "\n";
+    {
+      const StageScope writing(Stage::kWriting);
+      f.writer->Close();
+      std::ofstream(f.dir / "diagnostics.json") << s.diagnostics_json.dump(2) << "\n";
+    }
     if (!reference.empty()) {
       reports::MetricsOptions options;
       options.skip_before_ns = s.diagnostics.initialized_at_ns;
@@ -103,6 +113,7 @@ std::vector<EstimatorScore> EstimatorFeed::Finish(
 }
 
 void WriteMetrics(const std::filesystem::path& dir, const EstimatorScore& score) {
+  const StageScope writing(Stage::kWriting);
   std::ofstream(dir / "metrics.json") << score.metrics_json.dump(2) << "\n";
 }
 

@@ -16,6 +16,7 @@
 
 #include "apps/progress_bar.hpp"
 #include "core/geodetic.hpp"
+#include "core/stage_profile.hpp"
 #include "estimator/estimator.hpp"
 #include "reports/estimate_writer.hpp"
 #include "reports/trajectory_metrics.hpp"
@@ -29,6 +30,7 @@ struct FedEstimator {
   std::unique_ptr<est::Estimator> estimator;
   std::unique_ptr<reports::EstimateWriter> writer;
   std::vector<StateEstimate> estimates;
+  StageTimes time;  // spent in its calls (its lidar odometry included; not writing)
 };
 
 // What the scoring of one estimator gives: diagnostics.json and metrics.json (written), and the

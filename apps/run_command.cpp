@@ -18,6 +18,7 @@
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/estimator_feed.hpp"
+#include "apps/cpu_profile.hpp"
 #include "apps/memory_trace.hpp"
 #include "apps/scored_outages.hpp"
 #include "apps/scenario_estimators.hpp"
@@ -64,6 +65,7 @@ int RunRun(const std::vector<std::string>& argv) {
   const fs::path out_dir = *args->Option("out");
   const bool quiet = args->Flag("quiet");
   const auto wall_start = std::chrono::steady_clock::now();
+  const CpuProfile cpu;
   try {
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
     std::vector<sim::EstimatorSpec> specs = sim::ScenarioEstimators(scenario);
@@ -113,9 +115,13 @@ int RunRun(const std::vector<std::string>& argv) {
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-    const auto reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
-    const std::vector<reports::OutageWindow> outages =
-        ScoredOutages(run.sensors(), run.truth().end_ns());
+    std::vector<reports::ReferenceState> reference;
+    std::vector<reports::OutageWindow> outages;
+    {
+      const StageScope stage(Stage::kScoring);
+      reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
+      outages = ScoredOutages(run.sensors(), run.truth().end_ns());
+    }
     const double distance_m = run.truth().summary().distance_m;
     std::printf("%s (seed %llu, %.0f s, %.0f m, wall %.1f s)\n", scenario.name.c_str(),
                 static_cast<unsigned long long>(scenario.seed), end_s, distance_m, wall_s);
@@ -152,6 +158,7 @@ int RunRun(const std::vector<std::string>& argv) {
                                     {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
                                     {"estimators", estimators}};
     summary["memory"] = memory.Json();
+    summary["cpu"] = cpu.Json(feed.estimators(), end_s);
     if (cache) {
       summary["cache"] = CacheCountsJson(*cache);
       cache->Prune();

@@ -259,6 +259,25 @@ void RunAll(std::vector<Job>* jobs, std::size_t jobs_at_once,
   if (tty && !quiet) std::fprintf(stderr, "\r\033[K");
 }
 
+// "    CPU s: lidar_raycast 60.1, lidar_odometry 30.2, ..." from the run's cpu split, largest first.
+void PrintStages(const nlohmann::json& run) {
+  if (!run.contains("cpu") || !run["cpu"].contains("stages_s")) return;
+  std::vector<std::pair<double, std::string>> stages;
+  for (const auto& [name, seconds] : run["cpu"]["stages_s"].items()) {
+    stages.emplace_back(seconds.get<double>(), name);
+  }
+  stages.emplace_back(run["cpu"].value("child_processes_s", 0.0), "child processes");
+  std::sort(stages.rbegin(), stages.rend());
+  std::string line = "      CPU s:";
+  for (const auto& [seconds, name] : stages) {
+    char part[64];
+    std::snprintf(part, sizeof(part), " %s %.1f,", name.c_str(), seconds);
+    line += part;
+  }
+  line.pop_back();
+  std::printf("%s\n", line.c_str());
+}
+
 nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
                          std::size_t jobs_at_once, double wall_s) {
   nlohmann::json scenarios = nlohmann::json::array();
@@ -278,6 +297,7 @@ nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
       // Simulated seconds per CPU second: the real-time factor of a machine with a free core.
       j["real_time_factor_cpu"] =
           job.cpu_s > 0 ? job.run->value("simulated_s", 0.0) / job.cpu_s : 0.0;
+      if (job.run->contains("cpu")) j["cpu"] = (*job.run)["cpu"];  // per stage and estimator
     } else {
       j["failure"] = job.failure;
     }
@@ -340,6 +360,7 @@ int RunSuite(const std::vector<std::string>& argv) {
             "(%.2fx)\n",
             job.name.c_str(), simulated_s, job.wall_s, job.run->value("real_time_factor", 0.0),
             job.cpu_s, job.cpu_s > 0 ? simulated_s / job.cpu_s : 0.0);
+        PrintStages(*job.run);
       } else {
         ++failed;
         std::printf("  %-22s FAILED  %s\n", job.name.c_str(), job.failure.c_str());

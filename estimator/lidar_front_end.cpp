@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/stage_profile.hpp"
 #include "estimator/sqrt_information.hpp"
 
 namespace statebench::est {
@@ -120,7 +121,10 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   const TimeNs t = scan.header.stamp_ns;
   std::optional<SE3> T_w_prev;
   const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, &T_w_prev);
-  const LidarOdometryResult r = odometry_->RegisterScan(scan, prior);
+  const LidarOdometryResult r = [&] {
+    const StageScope stage(Stage::kLidarOdometry);
+    return odometry_->RegisterScan(scan, prior);
+  }();
   if (!r.accepted) {
     // The category of the reason (its text before the details in parentheses).
     const std::string reason = r.reject_reason.substr(0, r.reject_reason.find(" ("));

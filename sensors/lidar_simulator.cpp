@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/random.hpp"
+#include "core/stage_profile.hpp"
 #include "sensors/traffic_window.hpp"
 
 namespace statebench::sensors {
@@ -35,6 +36,7 @@ LidarScan LidarSimulator::SimulateScanFromBody(const PoseFunction& T_world_body,
 
 LidarScan LidarSimulator::SimulateScan(const PoseFunction& T_world_lidar, TimeNs t_start_ns,
                                        std::uint64_t scan_index) const {
+  const StageScope stage(Stage::kLidarRaycast);
   const LidarBeamModel& beams = params_.beams;
   const int columns = beams.columns;
 

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "core/stage_profile.hpp"
 #include "core/truth_io.hpp"
 #include "sensors/lidar_pcd_io.hpp"
 #include "sensors/log_csv.hpp"
@@ -110,6 +111,7 @@ LogWriter::Stream& LogWriter::StreamFor(const Measurement& m) {
 }
 
 void LogWriter::Write(const Measurement& m) {
+  const StageScope stage(Stage::kWriting);
   Stream& s = StreamFor(m);
   const MeasurementHeader& h = HeaderOf(m);
   if (s.last_stamp_ns && (h.stamp_ns <= *s.last_stamp_ns || h.arrival_ns < s.last_arrival_ns)) {
@@ -140,6 +142,7 @@ void LogWriter::WriteLidar(Stream& s, const LidarScan& scan) {
 
 void LogWriter::WriteTruth(const TruthSample& sample) {
   if (!truth_) throw InputError("log: no truth mount given (LogWriterOptions::truth_T_body_imu)");
+  const StageScope stage(Stage::kWriting);
   truth_->Write(sample);
 }
 

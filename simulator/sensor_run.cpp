@@ -4,6 +4,7 @@
 #include <map>
 #include <utility>
 
+#include "core/stage_profile.hpp"
 #include "sensors/lidar_sensor_model.hpp"
 #include "sensors/sensor_suite.hpp"
 #include "simulator/world_from_sumo.hpp"
@@ -52,7 +53,10 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
     : sensors_(LoadScenarioSensors(scenario)),
       sensor_seed_(options.sensor_seed.value_or(scenario.seed)),
       cache_(options.cache) {
-  truth_ = std::make_unique<TruthSimulation>(scenario, work_dir, options.sumo, cache_);
+  {
+    const StageScope stage(Stage::kSumo);
+    truth_ = std::make_unique<TruthSimulation>(scenario, work_dir, options.sumo, cache_);
+  }
 
   const sensors::SensorSetup& setup = sensors_.setup;
   std::optional<sensors::SkyViewOptions> urban_canyon = sensors_.faults.urban_canyon;
@@ -78,6 +82,7 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
     return false;
   };
   if (needs_world(SensorType::kLidar) || (urban_canyon && needs_world(SensorType::kGnss))) {
+    const StageScope stage(Stage::kWorld);
     WorldFromSumoOptions world_options;
     world_options.layout = options.layout;
     world_options.layout.seed = scenario.seed;
@@ -124,6 +129,7 @@ void SensorRun::PublishRecordings() {
 
 std::optional<Measurement> SensorRun::Next() {
   const std::vector<SensorOutage>& outages = sensors_.faults.sensor_outages;
+  const StageScope stage(Stage::kSensors);
   while (true) {
     std::optional<Measurement> m = source_->Next();
     if (!m || outages.empty()) return m;
@@ -137,7 +143,12 @@ std::optional<Measurement> SensorRun::Next() {
 
 std::optional<TruthSample> SensorRun::NextTruth() {
   TruthSample sample;
-  if (!truth_->Next(&sample)) {
+  bool more = false;
+  {
+    const StageScope stage(Stage::kVehicle);
+    more = truth_->Next(&sample);
+  }
+  if (!more) {
     PublishRecordings();
     return std::nullopt;
   }
