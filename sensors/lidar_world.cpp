@@ -41,28 +41,6 @@ btVector3 ToBt(const Vec3& v) {
                    static_cast<btScalar>(v.z()));
 }
 
-// Exact ray / triangle intersection in double (Moller-Trumbore). Returns the range along the unit
-// direction, or a negative value when missed. Barycentric coordinates may be off by
-// kBarycentricSlack so that a ray through a shared edge hits one of the two triangles.
-constexpr double kBarycentricSlack = 1e-9;
-
-double IntersectTriangle(const Vec3& o, const Vec3& d, const Vec3& v0, const Vec3& v1,
-                         const Vec3& v2) {
-  const Vec3 e1 = v1 - v0;
-  const Vec3 e2 = v2 - v0;
-  const Vec3 p = d.cross(e2);
-  const double det = e1.dot(p);
-  if (det == 0.0) return -1.0;  // parallel to the plane
-  const double inv = 1.0 / det;
-  const Vec3 s = o - v0;
-  const double u = s.dot(p) * inv;
-  if (u < -kBarycentricSlack || u > 1.0 + kBarycentricSlack) return -1.0;
-  const Vec3 q = s.cross(e1);
-  const double v = d.dot(q) * inv;
-  if (v < -kBarycentricSlack || u + v > 1.0 + kBarycentricSlack) return -1.0;
-  return e2.dot(q) * inv;
-}
-
 // Closest triangle of one tile along the clipped ray o + r d, r in [r0, r1]: Bullet's BVH walk
 // proposes the triangles whose (conservatively quantized, padded) boxes the segment touches; each
 // is intersected exactly in double against the tile's double mesh. Bullet's own float triangle
@@ -75,8 +53,9 @@ class ClosestTriangle : public btNodeOverlapCallback {
 
   void processNode(int /*sub_part*/, int triangle_index) override {
     const auto& t = mesh_.triangles[static_cast<std::size_t>(triangle_index)];
-    const double r =
-        IntersectTriangle(o_, d_, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+    const Vec3& v0 = mesh_.vertices[t[0]];
+    const double r = IntersectTriangle(o_, d_, v0, mesh_.vertices[t[1]] - v0,
+                                       mesh_.vertices[t[2]] - v0);
     if (r < r0_ || r > r1_ || r <= 0.0 || r >= range) return;
     range = r;
     triangle = triangle_index;
@@ -210,6 +189,9 @@ LidarWorld::LidarWorld(const RoadGeometry& roads, GroundHeightFn ground, WorldLa
   std::vector<Eigen::AlignedBox3d> tile_bounds;
   for (const auto& tile : bullet_->tiles) tile_bounds.push_back(tile->bounds);
   bullet_->grid = TileGrid(tile_bounds, options.object_tile_size_m);
+  std::vector<const TriangleMesh*> meshes;
+  for (const auto& tile : bullet_->tiles) meshes.push_back(&tile->mesh);
+  bvh_ = std::make_unique<TriangleBvh>(meshes, origin_);
 }
 
 void LidarWorld::AddTile(TriangleMesh mesh) {
@@ -263,6 +245,11 @@ btCollisionWorld& LidarWorld::collision_world() { return bullet_->world; }
 
 std::optional<RayHit> LidarWorld::CastStatic(const Vec3& o, const Vec3& d,
                                              double max_range_m) const {
+  return bvh_->Cast(o, d, max_range_m);
+}
+
+std::optional<RayHit> LidarWorld::CastStaticBullet(const Vec3& o, const Vec3& d,
+                                                   double max_range_m) const {
   const double r_begin = 0.0;
   const double r_end = max_range_m;
   thread_local Scratch scratch;

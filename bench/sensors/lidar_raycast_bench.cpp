@@ -11,6 +11,8 @@
 #include <cmath>
 #include <ctime>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "bench/dense_town.hpp"
 #include "sensors/lidar_simulator.hpp"
@@ -103,6 +105,42 @@ void BM_Xt32UrbanScan(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(scene.world->triangle_count());
 }
 BENCHMARK(BM_Xt32UrbanScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The static-world kernels alone on the same sweep's rays, one thread: CastStatic (our BVH) and
+// CastStaticBullet (the reference walk through the tiles' Bullet BVHs); rays per CPU second.
+template <bool kBullet>
+void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  const LidarWorld& world = *scene.world;
+  const LidarBeamModel& beams = scene.lidar->params().beams;
+  const double max_range = scene.lidar->params().max_range_m;
+  std::vector<std::pair<Vec3, Vec3>> rays;
+  for (int c = 0; c < beams.columns; ++c) {
+    const SE3 T = Pose(beams.ColumnOffsetNs(c));
+    for (int r = 0; r < beams.channels(); ++r) {
+      rays.emplace_back(T.translation(), T.rotation() * beams.Direction(c, r));
+    }
+  }
+  std::size_t hits = 0;
+  const double cpu_start = ProcessCpuSeconds();
+  for (auto _ : state) {
+    hits = 0;
+    for (const auto& [o, d] : rays) {
+      hits += (kBullet ? world.CastStaticBullet(o, d, max_range) : world.CastStatic(o, d, max_range))
+                  ? 1
+                  : 0;
+    }
+    benchmark::DoNotOptimize(hits);
+  }
+  const double cpu_seconds = ProcessCpuSeconds() - cpu_start;
+  const double cast = static_cast<double>(rays.size()) * static_cast<double>(state.iterations());
+  state.counters["rays_per_cpu_s"] = cast / cpu_seconds;
+  state.counters["hits_per_scan"] = static_cast<double>(hits);
+}
+BENCHMARK(BM_Xt32UrbanStaticKernel<false>)->Name("BM_Xt32UrbanStaticKernel/bvh")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Xt32UrbanStaticKernel<true>)->Name("BM_Xt32UrbanStaticKernel/bullet_walk")
+    ->Unit(benchmark::kMillisecond);
 
 // Stock Bullet path, static world only, one thread.
 void BM_Xt32UrbanScanStockRayTest(benchmark::State& state) {
