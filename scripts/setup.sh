@@ -9,6 +9,7 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev libceres-dev libgeographiclib-dev libtbb-dev
   libbullet-dev libpcl-dev libsqlite3-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev  # bench only: lidar_raycast_bench's Embree comparison
   sumo sumo-tools
 )
 

@@ -189,9 +189,7 @@ LidarWorld::LidarWorld(const RoadGeometry& roads, GroundHeightFn ground, WorldLa
   std::vector<Eigen::AlignedBox3d> tile_bounds;
   for (const auto& tile : bullet_->tiles) tile_bounds.push_back(tile->bounds);
   bullet_->grid = TileGrid(tile_bounds, options.object_tile_size_m);
-  std::vector<const TriangleMesh*> meshes;
-  for (const auto& tile : bullet_->tiles) meshes.push_back(&tile->mesh);
-  bvh_ = std::make_unique<TriangleBvh>(meshes, origin_);
+  bvh_ = std::make_unique<TriangleBvh>(tile_meshes(), origin_);
 }
 
 void LidarWorld::AddTile(TriangleMesh mesh) {
@@ -237,6 +235,12 @@ std::size_t LidarWorld::triangle_count() const {
   std::size_t n = 0;
   for (const auto& t : bullet_->tiles) n += t->mesh.size();
   return n;
+}
+
+std::vector<const TriangleMesh*> LidarWorld::tile_meshes() const {
+  std::vector<const TriangleMesh*> meshes;
+  for (const auto& tile : bullet_->tiles) meshes.push_back(&tile->mesh);
+  return meshes;
 }
 
 std::size_t LidarWorld::tile_count() const { return bullet_->tiles.size(); }

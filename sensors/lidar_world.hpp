@@ -27,6 +27,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "core/eigen_types.hpp"
 #include "sensors/ray_hit.hpp"
@@ -81,6 +82,8 @@ class LidarWorld {
   double GroundHeight(double x, double y) const { return ground_(x, y); }
   const Eigen::AlignedBox3d& bounds() const { return bounds_; }
   std::size_t triangle_count() const;
+  // The world's triangles, tile by tile (world frame, double).
+  std::vector<const TriangleMesh*> tile_meshes() const;
   std::size_t tile_count() const;
 
   // The Bullet world, for inspection and single-threaded use with Bullet's own API; its

@@ -5,6 +5,9 @@
 // For reference, the same beams through Bullet's stock btCollisionWorld::rayTest with a
 // ClosestRayResultCallback (single thread: that path is not thread-safe in Debian's Bullet).
 #include <benchmark/benchmark.h>
+#ifdef STATEBENCH_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
 #include <btBulletCollisionCommon.h>
 #include <tbb/global_control.h>
 
@@ -106,14 +109,9 @@ void BM_Xt32UrbanScan(benchmark::State& state) {
 }
 BENCHMARK(BM_Xt32UrbanScan)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The static-world kernels alone on the same sweep's rays, one thread: CastStatic (our BVH) and
-// CastStaticBullet (the reference walk through the tiles' Bullet BVHs); rays per CPU second.
-template <bool kBullet>
-void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
-  const UrbanScene& scene = Scene();
-  const LidarWorld& world = *scene.world;
+// One sweep's rays (origin, unit direction; world frame) from the benchmark's pose.
+std::vector<std::pair<Vec3, Vec3>> SweepRays(const UrbanScene& scene) {
   const LidarBeamModel& beams = scene.lidar->params().beams;
-  const double max_range = scene.lidar->params().max_range_m;
   std::vector<std::pair<Vec3, Vec3>> rays;
   for (int c = 0; c < beams.columns; ++c) {
     const SE3 T = Pose(beams.ColumnOffsetNs(c));
@@ -121,15 +119,22 @@ void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
       rays.emplace_back(T.translation(), T.rotation() * beams.Direction(c, r));
     }
   }
+  return rays;
+}
+
+// The static-world kernels alone on the same sweep's rays, one thread: CastStatic (our BVH),
+// CastStaticBullet (the reference walk through the tiles' Bullet BVHs) and, when built with it,
+// Embree (below); rays per CPU second.
+// Casts the sweep's rays through `hit` (true when the ray hits) once per iteration and reports
+// rays per CPU second and hits per sweep.
+template <typename HitFn>
+void TimeKernel(benchmark::State& state, const std::vector<std::pair<Vec3, Vec3>>& rays,
+                HitFn hit) {
   std::size_t hits = 0;
   const double cpu_start = ProcessCpuSeconds();
   for (auto _ : state) {
     hits = 0;
-    for (const auto& [o, d] : rays) {
-      hits += (kBullet ? world.CastStaticBullet(o, d, max_range) : world.CastStatic(o, d, max_range))
-                  ? 1
-                  : 0;
-    }
+    for (const auto& [o, d] : rays) hits += hit(o, d) ? 1 : 0;
     benchmark::DoNotOptimize(hits);
   }
   const double cpu_seconds = ProcessCpuSeconds() - cpu_start;
@@ -137,10 +142,78 @@ void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
   state.counters["rays_per_cpu_s"] = cast / cpu_seconds;
   state.counters["hits_per_scan"] = static_cast<double>(hits);
 }
+
+template <bool kBullet>
+void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  const LidarWorld& world = *scene.world;
+  const double max_range = scene.lidar->params().max_range_m;
+  TimeKernel(state, SweepRays(scene), [&](const Vec3& o, const Vec3& d) {
+    return (kBullet ? world.CastStaticBullet(o, d, max_range) : world.CastStatic(o, d, max_range))
+        .has_value();
+  });
+}
 BENCHMARK(BM_Xt32UrbanStaticKernel<false>)->Name("BM_Xt32UrbanStaticKernel/bvh")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Xt32UrbanStaticKernel<true>)->Name("BM_Xt32UrbanStaticKernel/bullet_walk")
     ->Unit(benchmark::kMillisecond);
+
+#ifdef STATEBENCH_HAVE_EMBREE
+// Embree 3 (Debian's build, default scene and build quality, single rays through rtcIntersect1)
+// on the same triangles, in float relative to the world's Bullet origin: the per-core limit our
+// kernel is measured against. Embree's float ranges are not exact; only the hit count is compared.
+void BM_Xt32UrbanStaticKernelEmbree(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  const Vec3 shift = scene.world->bullet_origin_world();
+  const double max_range = scene.lidar->params().max_range_m;
+  RTCDevice device = rtcNewDevice("threads=1");
+  RTCScene rtc_scene = rtcNewScene(device);
+  for (const TriangleMesh* mesh : scene.world->tile_meshes()) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        mesh->vertices.size()));
+    for (std::size_t k = 0; k < mesh->vertices.size(); ++k) {
+      const Vec3 v = mesh->vertices[k] - shift;
+      vertices[3 * k] = static_cast<float>(v.x());
+      vertices[3 * k + 1] = static_cast<float>(v.y());
+      vertices[3 * k + 2] = static_cast<float>(v.z());
+    }
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        mesh->triangles.size()));
+    for (std::size_t k = 0; k < mesh->triangles.size(); ++k) {
+      for (int j = 0; j < 3; ++j) indices[3 * k + j] = static_cast<unsigned>(mesh->triangles[k][j]);
+    }
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(rtc_scene, geometry);
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(rtc_scene);
+  TimeKernel(state, SweepRays(scene), [&](const Vec3& o, const Vec3& d) {
+    const Vec3 from = o - shift;
+    RTCRayHit rh{};
+    rh.ray.org_x = static_cast<float>(from.x());
+    rh.ray.org_y = static_cast<float>(from.y());
+    rh.ray.org_z = static_cast<float>(from.z());
+    rh.ray.dir_x = static_cast<float>(d.x());
+    rh.ray.dir_y = static_cast<float>(d.y());
+    rh.ray.dir_z = static_cast<float>(d.z());
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = static_cast<float>(max_range);
+    rh.ray.mask = ~0u;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(rtc_scene, &context, &rh);
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  });
+  rtcReleaseScene(rtc_scene);
+  rtcReleaseDevice(device);
+}
+BENCHMARK(BM_Xt32UrbanStaticKernelEmbree)->Name("BM_Xt32UrbanStaticKernel/embree")
+    ->Unit(benchmark::kMillisecond);
+#endif
 
 // Stock Bullet path, static world only, one thread.
 void BM_Xt32UrbanScanStockRayTest(benchmark::State& state) {
