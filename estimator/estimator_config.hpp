@@ -94,6 +94,10 @@ struct InitializationOptions {
   double static_duration_s = 1.0;           // still period averaged for gravity and gyro bias
   double static_max_gyro_std_radps = 0.01;  // per axis, over the still period
   double static_max_accel_std_mps2 = 0.1;   // per axis
+  // The IMU cannot tell a constant velocity from standstill: a still period counts only when the
+  // GNSS fixes since the IMU began to look still bound the horizontal speed (least-squares
+  // speed + 3 sigma) below this. Noisy fixes need a longer wait (CEP 2 m at 10 Hz: ~15 s).
+  double static_max_speed_mps = 0.1;
   double course_min_distance_m = 5.0;       // GNSS displacement that defines the course
   // Prior sigmas of the first state where no measurement gives them.
   double roll_pitch_sigma_rad = 0.02;  // static alignment (accel bias / g ~ 0.01 rad)

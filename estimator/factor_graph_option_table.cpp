@@ -77,6 +77,8 @@ OptionTable<InitializationOptions> InitializationTable() {
               "still if the gyro std per axis is below")
       .Number("static_max_accel_std_mps2", &I::static_max_accel_std_mps2, p,
               "still if the accel std per axis is below")
+      .Number("static_max_speed_mps", &I::static_max_speed_mps, p,
+              "still if the fixes bound the speed below")
       .Number("course_min_distance_m", &I::course_min_distance_m, p,
               "GNSS displacement that defines the course")
       .Number("roll_pitch_sigma_rad", &I::roll_pitch_sigma_rad, p, "prior, static alignment")

@@ -89,8 +89,10 @@ void StateInitializer::UpdateStill() {
       accel.std.maxCoeff() > options_.static_max_accel_std_mps2 ||
       std::abs(accel.mean.norm() - kGravity) > kMaxStillGravityError ||
       gyro.mean.norm() > 10.0 * options_.static_max_gyro_std_radps) {
+    still_since_ns_.reset();
     return;
   }
+  if (!still_since_ns_) still_since_ns_ = t_begin;
   // A constant velocity looks still to an IMU: the fixes of the period must not move.
   for (const Fix& a : fixes_) {
     if (a.fix.header.stamp_ns < t_begin) continue;
@@ -98,11 +100,46 @@ void StateInitializer::UpdateStill() {
     const double sigma = std::sqrt(a.fix.covariance(0, 0) + a.fix.covariance(1, 1));
     if (d.head<2>().norm() > 0.05 + 4.0 * sigma) return;
   }
+  if (!FixesProveStandstill(*still_since_ns_, t_end)) return;
   Tilt tilt;
   tilt.t_ns = t_end;
   tilt.up_imu = accel.mean.normalized();
   tilt.gyro_bias = gyro.mean;
   still_ = tilt;
+}
+
+bool StateInitializer::FixesProveStandstill(TimeNs from_ns, TimeNs to_ns) const {
+  // Horizontal velocity fitted to the fixes (p = p0 + v t), with its standard deviation from
+  // the fixes' mean horizontal variance per axis.
+  double t_mean = 0.0;
+  Vec2 p_mean = Vec2::Zero();
+  double variance = 0.0;
+  int n = 0;
+  for (const Fix& f : fixes_) {
+    const TimeNs t = f.fix.header.stamp_ns;
+    if (t < from_ns || t > to_ns) continue;
+    t_mean += ToSeconds(t - from_ns);
+    p_mean += f.fix.p_enu.head<2>();
+    variance += 0.5 * (f.fix.covariance(0, 0) + f.fix.covariance(1, 1));
+    ++n;
+  }
+  if (n < 3) return false;
+  t_mean /= n;
+  p_mean /= n;
+  variance /= n;
+  double spread = 0.0;
+  Vec2 moment = Vec2::Zero();
+  for (const Fix& f : fixes_) {
+    const TimeNs t = f.fix.header.stamp_ns;
+    if (t < from_ns || t > to_ns) continue;
+    const double dt = ToSeconds(t - from_ns) - t_mean;
+    spread += dt * dt;
+    moment += dt * (f.fix.p_enu.head<2>() - p_mean);
+  }
+  if (!(spread > 0.0)) return false;
+  const Vec2 v = moment / spread;
+  const double sigma_v = std::sqrt(variance / spread);
+  return v.norm() + 3.0 * sigma_v <= options_.static_max_speed_mps;
 }
 
 const StateInitializer::Fix* StateInitializer::EarlierFix(TimeNs min_baseline_ns,

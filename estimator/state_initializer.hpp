@@ -2,7 +2,8 @@
 //
 // Attitude = tilt (gravity direction in the IMU frame) + yaw (a horizontal reference direction):
 //  - Tilt, static: over a still period (per-axis std of gyro and accel below thresholds, |f|
-//    near g) the specific force is f = R^T (0, 0, g) + b_a, so the up axis in the IMU frame is
+//    near g, and the GNSS fixes since the IMU began to look so proving a standstill: a constant
+//    velocity looks still to an IMU) the specific force is f = R^T (0, 0, g) + b_a, so the up axis in the IMU frame is
 //    f_mean / |f_mean| (the accel bias tilts it by |b_a| / g) and the gyro bias is the mean rate.
 //  - Attitude, moving: three fixes a, m, b of one antenna and the IMU preintegrated from a give
 //    an exact vector observation of R_a (mostly gravity plus whatever the vehicle accelerated,
@@ -83,6 +84,9 @@ class StateInitializer {
   };
 
   void UpdateStill();
+  // Whether the fixes stamped in [from_ns, to_ns] bound the horizontal speed below
+  // static_max_speed_mps (least-squares speed + 3 sigma; at least 3 fixes).
+  bool FixesProveStandstill(TimeNs from_ns, TimeNs to_ns) const;
   std::optional<YawReference> CourseReference() const;
   std::optional<Anchor> StaticAnchor(const YawReference& yaw, TimeNs t0_ns) const;
   std::optional<Anchor> MovingAnchor(const YawReference& yaw) const;
@@ -99,6 +103,7 @@ class StateInitializer {
   std::vector<ImuSample> imu_;
   std::deque<Fix> fixes_;
   std::optional<Tilt> still_;            // latest still period
+  std::optional<TimeNs> still_since_ns_;  // the IMU has looked still since then
   std::optional<YawReference> heading_;  // latest dual-antenna heading
 };
 

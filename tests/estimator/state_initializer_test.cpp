@@ -5,7 +5,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdio>
+#include <random>
+#include <utility>
 
+#include "core/random.hpp"
 #include "estimator/measurement_gate.hpp"
 #include "estimator_scenario.hpp"
 
@@ -184,6 +187,87 @@ TEST(StateInitializer, StaticModeWaitsForAStillPeriod) {
   const InitRun run = Initialize(MakeScenario(Base()), options);
   ASSERT_TRUE(run.init.has_value());
   EXPECT_EQ(run.init->method, "moving (gnss course)");
+}
+
+// An IMU cannot tell a constant velocity from standstill: driving straight at 6 m/s, level, with
+// fixes of CEP 2 m at 4 Hz (they move 6 m per second, well inside their noise over the 1 s still
+// window), the vehicle must not be taken as standing (it was: velocity 0 +- 0.02 m/s, and the
+// factor graph diverged on the first IMU + GNSS log). It initialises moving, its velocity
+// covered by its covariance. Standing still for long enough, the same fixes prove the standstill.
+struct StraightDrive {
+  double parked_s = 0.0;  // > 0: standing until then, then 3 s at 2 m/s^2 up to 6 m/s
+  double duration_s = 40.0;
+  double sigma_h_m = 1.7;  // per axis: CEP 2 m
+};
+
+// Distance along x and acceleration at t (s from the start).
+std::pair<double, double> Along(const StraightDrive& d, double t) {
+  if (d.parked_s <= 0.0) return {6.0 * t, 0.0};
+  const double tau = t - d.parked_s;
+  if (tau <= 0.0) return {0.0, 0.0};
+  if (tau < 3.0) return {tau * tau, 2.0};
+  return {9.0 + 6.0 * (tau - 3.0), 0.0};
+}
+
+InitRun InitializeOnStraightDrive(const StraightDrive& d, std::uint64_t seed,
+                                  const InitializationOptions& options = {}) {
+  StateInitializer initializer(options, ImuNoise{}, Vec3::UnitX());
+  std::mt19937_64 rng = MakeRng(seed, "straight drive");
+  NormalSampler normal;
+  InitRun run;
+  const TimeNs dt = 10 * kNsPerMillisecond;  // IMU at 100 Hz, fixes every 25th sample (4 Hz)
+  for (int k = 0; ToSeconds(k * dt) <= d.duration_s; ++k) {
+    const TimeNs t = 1'000'000'000 + k * dt;
+    const auto [x, a] = Along(d, ToSeconds(k * dt));
+    if (k % 25 == 0) {
+      GnssPositionEnu fix;
+      fix.header = {"gnss_front", t, t};
+      fix.p_enu = Vec3(x + d.sigma_h_m * normal(rng),
+                       d.sigma_h_m * normal(rng), 2.0 * normal(rng));
+      fix.covariance = Vec3(d.sigma_h_m * d.sigma_h_m, d.sigma_h_m * d.sigma_h_m, 4.0).asDiagonal();
+      initializer.AddPosition(fix, Vec3::Zero());
+    }
+    ImuSample s;
+    s.header = {"imu", t, t};
+    s.accel = Vec3(a, 0.0, kGravity);
+    s.gyro = Vec3::Zero();
+    initializer.AddImu(s);
+    run.fed_until_ns = t;
+    if ((run.init = initializer.TryInitialize())) return run;
+  }
+  return run;
+}
+
+TEST(StateInitializer, AConstantVelocityWithNoisyFixesIsNotAStandstill) {
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const InitRun run = InitializeOnStraightDrive(StraightDrive{}, seed);
+    ASSERT_TRUE(run.init.has_value()) << "seed " << seed;
+    EXPECT_EQ(run.init->method.rfind("moving", 0), 0u) << run.init->method << ", seed " << seed;
+    const Vec3 v_error = run.init->state.v_world - Vec3(6.0, 0.0, 0.0);
+    const Mat3 P = run.init->covariance.block<3, 3>(kVelocityIndex, kVelocityIndex);
+    EXPECT_LT(v_error.dot(P.inverse() * v_error), 16.27) << "seed " << seed;  // chi2(3), 0.999
+  }
+  // Without the proof (any speed allowed) the drive is taken as a standstill: the old failure.
+  InitializationOptions no_proof;
+  no_proof.static_max_speed_mps = 1e9;
+  const InitRun run = InitializeOnStraightDrive(StraightDrive{}, 1, no_proof);
+  ASSERT_TRUE(run.init.has_value());
+  EXPECT_EQ(run.init->method.rfind("static", 0), 0u) << run.init->method;
+  EXPECT_EQ(run.init->state.v_world, Vec3::Zero());
+}
+
+TEST(StateInitializer, NoisyFixesProveAStandstillOnceItLastsLongEnough) {
+  // With static_max_speed_mps 0.1 and 4 fixes a second of 1.7 m per axis a standstill is proven
+  // after ~17 s: parked 25 s, the static alignment holds (the yaw then comes from the course);
+  // parked 8 s, it does not and the vehicle initialises moving.
+  for (const double parked_s : {25.0, 8.0}) {
+    StraightDrive d;
+    d.parked_s = parked_s;
+    const InitRun run = InitializeOnStraightDrive(d, 1);
+    ASSERT_TRUE(run.init.has_value()) << parked_s;
+    EXPECT_EQ(run.init->method.rfind(parked_s > 20.0 ? "static" : "moving", 0), 0u)
+        << run.init->method << ", parked " << parked_s << " s";
+  }
 }
 
 }  // namespace
