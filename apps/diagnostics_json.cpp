@@ -39,9 +39,16 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
   double mean = 0.0;
   for (const double t : times) mean += t;
   if (!times.empty()) mean /= static_cast<double>(times.size());
+  nlohmann::json lost = nlohmann::json::array();
+  for (std::size_t k = 0; k < d.lost_at_ns.size(); ++k) {
+    lost.push_back({{"at_s", ToSeconds(d.lost_at_ns[k])},
+                    {"reinitialization",
+                     k < d.reinitializations.size() ? d.reinitializations[k] : "pending"}});
+  }
   return {{"initialized", d.initialized},
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
           {"initialization", d.initialization},
+          {"lost", lost},
           {"sensors", sensors},
           {"updates",
            {{"count", d.updates.size()},

@@ -64,6 +64,11 @@ struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
   std::string initialization;  // how: "static", "moving (dual antenna)", "moving (gnss course)"
+  // Times the estimator found itself lost and started over from the sensors (e.g. every GNSS
+  // fix gated out for longer than gate_reset_s while the fixes agreed with each other), and how
+  // it re-initialised each time.
+  std::vector<TimeNs> lost_at_ns;
+  std::vector<std::string> reinitializations;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   std::vector<UpdateDiagnostics> updates;
 };

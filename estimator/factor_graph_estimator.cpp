@@ -4,6 +4,7 @@
 #include "estimator/factor_graph_estimator.hpp"
 
 #include <chrono>
+#include <cstdio>
 
 #include "core/error.hpp"
 #include "estimator/factor_plan.hpp"
@@ -94,6 +95,14 @@ struct FactorGraphEstimator::Impl {
       }
     }
     for (MeasurementFrontEnd* f : front_ends) f->EndOfStamp();
+    if (ctx.lost) StartOver();
+  }
+
+  // Lost (a front end said so): an empty window and initialiser, fed again from the next IMU
+  // sample; no estimate until initialised again.
+  void StartOver() {
+    ctx.Restart();
+    for (MeasurementFrontEnd* f : front_ends) f->OnRestart();
   }
 
   void ProcessImu(const ImuSample& s) {
@@ -120,9 +129,16 @@ struct FactorGraphEstimator::Impl {
     } catch (const InputError&) {
       return;  // covariance not positive definite: same
     }
-    ctx.initialized = ctx.diag.initialized = true;
-    ctx.diag.initialized_at_ns = x.t_ns;
-    ctx.diag.initialization = init->method;
+    ctx.initialized = true;
+    if (!ctx.diag.initialized) {
+      ctx.diag.initialized = true;
+      ctx.diag.initialized_at_ns = x.t_ns;
+      ctx.diag.initialization = init->method;
+    } else {  // after being lost
+      char at[32];
+      std::snprintf(at, sizeof(at), " at %.2f s", ToSeconds(x.t_ns));
+      ctx.diag.reinitializations.push_back(init->method + at);
+    }
     ctx.output.SetAnchor(PropagatedState{x, init->covariance});
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
     for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);

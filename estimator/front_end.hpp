@@ -8,6 +8,7 @@
 // orchestrator (FactorGraphEstimator::Impl::front_ends); the intake finds it through Claims().
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -34,7 +35,11 @@ class FrontEndContext {
                   const Vec3& forward_imu)
       : smoother(smoother_options),
         initializer(initialization, noise, forward_imu),
-        output(noise) {}
+        output(noise),
+        smoother_options_(smoother_options),
+        initialization_(initialization),
+        noise_(noise),
+        forward_imu_(forward_imu) {}
 
   SlidingWindowSmoother smoother;
   StateInitializer initializer;
@@ -42,6 +47,19 @@ class FrontEndContext {
   EstimatorDiagnostics diag;
   bool initialized = false;
   TimeNs newest_imu_ns = INT64_MIN;  // newest accepted IMU sample (not yet released)
+  // Set by a front end that finds the estimate lost; the orchestrator then starts over.
+  bool lost = false;
+
+  // Starts over: an empty smoother and initialiser, no output until initialised again (the
+  // counters and the diagnostics stay).
+  void Restart() {
+    std::destroy_at(&smoother);
+    std::construct_at(&smoother, smoother_options_);
+    initializer = StateInitializer(initialization_, noise_, forward_imu_);
+    output = ImuRateOutput(noise_);
+    initialized = false;
+    lost = false;
+  }
 
   // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window
   // (mean from the states around t, covariance of the newest state); nullopt if not held.
@@ -56,6 +74,12 @@ class FrontEndContext {
   void Accept(const std::string& id, TimeNs t_ns) { Counters(id).Accept(t_ns); }
   void Reject(const std::string& id, RejectReason reason) { ++Counters(id).rejected[reason]; }
   void Count(const std::string& id, const std::string& event) { ++Counters(id).events[event]; }
+
+ private:
+  SlidingWindowOptions smoother_options_;
+  InitializationOptions initialization_;
+  ImuNoise noise_;
+  Vec3 forward_imu_;
 };
 
 // How a front end answers for a measurement: not its kind, its kind from a sensor the setup does
@@ -82,6 +106,8 @@ class MeasurementFrontEnd {
   // Before the first state is set: may refine it with what this front end knows.
   virtual void RefineInitialState(const ImuSample& sample, InitialState* init) const {}
   virtual void OnInitialized(TimeNs t_ns) {}
+  // The estimator starts over (lost): forget what refers to the old window's states.
+  virtual void OnRestart() {}
   // After a solve: the states that left the window (final), oldest first.
   virtual void OnMarginalized(std::span<const NavState> left) {}
   // The oldest stamp whose IMU-rate propagation this front end still needs.

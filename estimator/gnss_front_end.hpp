@@ -32,6 +32,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   void Process(const Measurement& m) override;
   void EndOfStamp() override;
   void OnInitialized(TimeNs t_ns) override;
+  void OnRestart() override;
   void OnMarginalized(std::span<const NavState> left) override;
   TimeNs OldestStampNeeded() const override;
 
@@ -68,6 +69,12 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   TimeNs stamp_ns_ = 0;
   GateState gnss_gate_, heading_gate_;
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
+  // Fixes the gate refused since the last accepted one (the newest few).
+  std::deque<GnssPositionEnu> rejected_;
+  // Whether the refused fixes (at least kLostMinFixes) follow one plausible path: consecutive
+  // ones no farther apart than a vehicle drives in between plus 4 sigma of their noise. Then it
+  // is the estimate that is off, not the receiver.
+  bool RejectedFixesAgree() const;
 };
 
 }  // namespace statebench::est

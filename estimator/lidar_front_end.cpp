@@ -40,6 +40,12 @@ LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan
   }
 }
 
+void LidarFrontEnd::OnRestart() {
+  if (odometry_) odometry_.emplace(options_.lidar.odometry);
+  last_scan_ns_.reset();
+  waiting_.clear();
+}
+
 Claim LidarFrontEnd::Claims(const Measurement& m) const {
   if (!std::holds_alternative<LidarScan>(m)) return Claim::kOtherKind;
   const EstimatorSensor* s = setup_.Find(HeaderOf(m).sensor_id);

@@ -24,6 +24,8 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
   void AfterRelease() override { ProcessWaitingScans(); }
+  // A new map and no previous scan: the next relative motion starts from the new window.
+  void OnRestart() override;
 
  private:
   bool Used(const std::string& id) const;
