@@ -181,6 +181,8 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
       .Number("max_encoder_speed_mps", &Z::max_encoder_speed_mps, p, "encoder reads zero")
       .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
               "without an encoder: estimated speed below")
+      .Number("max_acceleration_mps2", &Z::max_acceleration_mps2, p,
+              "without an encoder: measured acceleration below")
       .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor");
   return t;
 }

@@ -80,7 +80,10 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
            std::abs(last->second) <= z.max_encoder_speed_mps;
   }
   const auto predicted = ctx_.PredictAt(t_ns);
-  return predicted && predicted->state.v_world.norm() < z.max_estimated_speed_mps;
+  if (!predicted || predicted->state.v_world.norm() >= z.max_estimated_speed_mps) return false;
+  const NavState& x = predicted->state;
+  const Vec3 acceleration = x.q_world_imu * (mean_a - x.accel_bias) + kGravityWorld;
+  return acceleration.norm() < z.max_acceleration_mps2;
 }
 
 }  // namespace statebench::est

@@ -83,7 +83,10 @@ struct NonHolonomicOptions {
 // Zero-velocity factor when the vehicle stands still: the IMU is quiet over window_s (per-axis
 // standard deviations below the thresholds) and the speed encoder, when there is one, reads
 // zero; without an encoder the estimated speed must also be below max_estimated_speed_mps (a
-// quiet IMU alone cannot tell standing from cruising).
+// quiet IMU alone cannot tell standing from cruising) and the acceleration the IMU measures
+// (mean specific force rotated to the world with the estimated attitude, bias and gravity
+// removed) below max_acceleration_mps2: a smooth start from a stop keeps the IMU quiet, and the
+// factor would otherwise hold the speed it is tested on at zero while the vehicle drives off.
 struct ZeroVelocityOptions {
   bool enabled = true;
   double rate_hz = 10.0;
@@ -92,6 +95,7 @@ struct ZeroVelocityOptions {
   double max_accel_std_mps2 = 0.06;
   double max_encoder_speed_mps = 0.005;
   double max_estimated_speed_mps = 0.3;
+  double max_acceleration_mps2 = 0.3;
   double sigma_mps = 0.005;
 };
 
