@@ -183,7 +183,9 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
               "without an encoder: estimated speed below")
       .Number("max_acceleration_mps2", &Z::max_acceleration_mps2, p,
               "without an encoder: measured acceleration below")
-      .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor");
+      .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor")
+      .Number("sigma_without_encoder_mps", &Z::sigma_without_encoder_mps, p,
+              "its sigma without a speed encoder");
   return t;
 }
 

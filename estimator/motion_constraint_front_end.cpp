@@ -24,7 +24,9 @@ void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
   if (z.enabled && t >= next_zupt_ns_ && StandingStill(t)) {
     next_zupt_ns_ = t + FromSeconds(1.0 / z.rate_hz);
     BodyVelocityMeasurement m;
-    m.sqrt_information = Mat3::Identity() / z.sigma_mps;
+    const double sigma =
+        encoders_.has_speed_encoder() ? z.sigma_mps : z.sigma_without_encoder_mps;
+    m.sqrt_information = Mat3::Identity() / sigma;
     if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
       ctx_.Count(imu_id_, "zero_velocity_factors");
     }

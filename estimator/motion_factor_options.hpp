@@ -97,6 +97,9 @@ struct ZeroVelocityOptions {
   double max_estimated_speed_mps = 0.3;
   double max_acceleration_mps2 = 0.3;
   double sigma_mps = 0.005;
+  // Without an encoder the test cannot rule out a creep below max_estimated_speed_mps: the
+  // factor's sigma is then this (a third of that speed), not sigma_mps.
+  double sigma_without_encoder_mps = 0.1;
 };
 
 }  // namespace statebench::est
