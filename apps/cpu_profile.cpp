@@ -2,15 +2,13 @@
 
 #include <sys/resource.h>
 
+#include "apps/process_pool.hpp"
+
 namespace statebench::app {
 
 double ChildProcessesCpuSeconds() {
   rusage usage{};
-  if (getrusage(RUSAGE_CHILDREN, &usage) != 0) return 0.0;
-  const auto seconds = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
-  };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+  return getrusage(RUSAGE_CHILDREN, &usage) == 0 ? CpuSeconds(usage) : 0.0;
 }
 
 CpuProfile::CpuProfile()

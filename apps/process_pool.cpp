@@ -20,6 +20,13 @@ double MonotonicSeconds() {
       .count();
 }
 
+double CpuSeconds(const rusage& usage) {
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 void ProcessPool::StartFunction(std::size_t token, const std::function<int()>& body,
                                 const std::filesystem::path& stdout_file,
                                 const std::filesystem::path& stderr_file) {
@@ -72,8 +79,7 @@ ChildExit ProcessPool::WaitAny() {
     ChildExit exit;
     exit.token = it->second.token;
     exit.wall_s = MonotonicSeconds() - it->second.start_s;
-    exit.cpu_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-                 1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+    exit.cpu_s = CpuSeconds(usage);
     if (WIFEXITED(status)) {
       exit.exit_code = WEXITSTATUS(status);
     } else if (WIFSIGNALED(status)) {

@@ -10,6 +10,7 @@
 // while the parent has one thread (fork copies the calling thread alone).
 #pragma once
 
+#include <sys/resource.h>
 #include <sys/types.h>
 
 #include <cstddef>
@@ -52,5 +53,8 @@ class ProcessPool {
 
 // Seconds on a monotonic clock.
 double MonotonicSeconds();
+
+// User + system CPU seconds of a resource usage (wait4's of a child, or getrusage's).
+double CpuSeconds(const rusage& usage);
 
 }  // namespace statebench::app

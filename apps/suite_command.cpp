@@ -26,6 +26,7 @@
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
+#include "apps/process_pool.hpp"
 #include "core/error.hpp"
 #include "reports/paper_table.hpp"
 #include "simulator/scenario.hpp"
@@ -181,11 +182,9 @@ std::string Elapsed(const Clock::time_point& start) {
   return text;
 }
 
-double Seconds(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec; }
-
 void Finish(Job* job, int status, const rusage& usage) {
   job->wall_s = std::chrono::duration<double>(Clock::now() - job->start).count();
-  job->cpu_s = Seconds(usage.ru_utime) + Seconds(usage.ru_stime);
+  job->cpu_s = CpuSeconds(usage);
   job->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   if (job->exit_code == 0) {
     try {

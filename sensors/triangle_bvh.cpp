@@ -223,13 +223,19 @@ void TriangleBvh::Collapse(const std::vector<BvhBinaryNode>& binary) {
     std::int32_t binary;
   };
   std::vector<Pending> pending;
+  // The node over binary node b: its children (b itself when b is a leaf, which only the root of
+  // a tree of one leaf is).
   const auto make = [&](std::int32_t b) -> std::int32_t {
     std::vector<std::int32_t> children;
     const auto open = [&](std::int32_t inner) {
       children.push_back(inner + 1);
       children.push_back(binary[static_cast<std::size_t>(inner)].first);
     };
-    open(b);
+    if (binary[static_cast<std::size_t>(b)].count > 0) {
+      children.push_back(b);
+    } else {
+      open(b);
+    }
     while (children.size() < 4) {
       int widest = -1;
       double area = -1.0;
@@ -272,20 +278,6 @@ void TriangleBvh::Collapse(const std::vector<BvhBinaryNode>& binary) {
     nodes_.push_back(node);
     return index;
   };
-  if (binary.front().count > 0) {
-    // A single leaf: one node with one child.
-    Node node{};
-    for (int k = 0; k < 4; ++k) {
-      for (int i = 0; i < 3; ++i) {
-        node.lo[i][k] = k == 0 ? Below(binary.front().box.min()[i]) : 1.0f;
-        node.hi[i][k] = k == 0 ? Above(binary.front().box.max()[i]) : -1.0f;
-      }
-    }
-    node.count = 1;
-    node.child[0] = leaf_reference(0);
-    nodes_.push_back(node);
-    return;
-  }
   make(0);
   while (!pending.empty()) {
     const Pending p = pending.back();

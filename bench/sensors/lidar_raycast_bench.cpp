@@ -12,12 +12,12 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
-#include <ctime>
 #include <memory>
 #include <utility>
 #include <vector>
 
 #include "bench/dense_town.hpp"
+#include "core/stage_profile.hpp"
 #include "sensors/lidar_simulator.hpp"
 #include "sensors/synthetic_roads.hpp"
 
@@ -62,12 +62,6 @@ struct UrbanScene {
     lidar = std::make_unique<LidarSimulator>(*world, MakeLidarModelParams(v, "bench"), 1);
   }
 };
-
-double ProcessCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 const UrbanScene& Scene() {
   static const UrbanScene scene;
