@@ -49,6 +49,21 @@ constexpr const char* kUsage =
     "  stream in DIR under a hash of what they depend on and reuses them (same bits; run.json\n"
     "  counts the hits); the least recently used entries go beyond G GB (default 20).\n";
 
+// The scenario's stream faults (outages and injected ones) and how many measurements each hit.
+nlohmann::json FaultsJson(const MeasurementFaultInjector& injector) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t i = 0; i < injector.faults().size(); ++i) {
+    const MeasurementFault& f = injector.faults()[i];
+    nlohmann::json j = {{"type", std::string(MeasurementFaultName(f.kind))},
+                        {"sensors", f.sensors},
+                        {"start_s", f.start_s},
+                        {"affected", injector.affected()[i]}};
+    if (std::isfinite(f.end_s)) j["end_s"] = f.end_s;
+    out.push_back(j);
+  }
+  return out;
+}
+
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
@@ -157,6 +172,7 @@ int RunRun(const std::vector<std::string>& argv) {
                                     {"wall_time_s", wall_s},
                                     {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
                                     {"estimators", estimators}};
+    summary["faults"] = FaultsJson(run.faults());
     summary["memory"] = memory.Json();
     summary["cpu"] = cpu.Json(feed.estimators(), end_s);
     if (cache) {

@@ -16,6 +16,7 @@
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/ekf_single_track_model.hpp"
 #include "estimator/gnss_enu.hpp"
+#include "estimator/refused_fix_track.hpp"
 
 namespace statebench::est {
 namespace ekf {
@@ -79,6 +80,7 @@ struct EkfSingleTrackEstimator::Impl {
 
   // Filter.
   bool initialized = false;
+  TimeNs initialized_ns = 0;  // the latest (re-)initialisation
   TimeNs t_ns = 0;
   VecN x = VecN::Zero();
   MatN P = MatN::Identity();
@@ -87,6 +89,9 @@ struct EkfSingleTrackEstimator::Impl {
       last_accepted_heading_ns;
   std::vector<Pending> pending;  // stamp-sorted
   std::deque<Snapshot> history;
+  // Fixes each antenna's gate refused since its last accepted one: when they agree the filter
+  // is lost and starts over from the fixes (refused_fix_track.hpp).
+  std::map<std::string, RefusedFixTrack> refused_fixes;
 
   Impl(const EstimatorSensorSetup& s, const EkfOptions& o);
 
@@ -145,6 +150,11 @@ struct EkfSingleTrackEstimator::Impl {
   }
 
   void UpdateGnss(const std::string& id, const SensorInfo& info, const GnssPositionEnu& fix);
+
+  // The filter no longer matches a consistent track of fixes ("lost"), or the IMU paused too
+  // long ("imu_gap"): says so in the diagnostics (the event counted on sensor `id`) and
+  // initialises again from the next fixes (no estimate meanwhile).
+  void StartOver(const std::string& id, TimeNs stamp_ns, const char* event);
 
   // ---- initialisation ------------------------------------------------------------------------
 

@@ -2,6 +2,8 @@
 // heading, GNSS position with the lever arm) and its initialisation from the GNSS course.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "core/error.hpp"
 #include "estimator/ekf_filter_impl.hpp"
@@ -58,7 +60,7 @@ void EkfSingleTrackEstimator::Impl::UpdateSpeed(const std::string& id, const Sen
   Eigen::Matrix<double, 1, 1> R(options.speed_sigma_mps * options.speed_sigma_mps);
   const auto last = last_accepted_speed_ns.find(id);
   if (!Gate(Mahalanobis<1>(y, H, R), options.speed_gate_chi2, m.header.stamp_ns,
-            last == last_accepted_speed_ns.end() ? diag.initialized_at_ns : last->second)) {
+            last == last_accepted_speed_ns.end() ? initialized_ns : last->second)) {
     Reject(id, RejectReason::kMahalanobisGate);
     return;
   }
@@ -76,7 +78,7 @@ void EkfSingleTrackEstimator::Impl::UpdateHeading(const std::string& id, const S
   Eigen::Matrix<double, 1, 1> R(m.yaw_sigma_rad * m.yaw_sigma_rad);
   const auto last = last_accepted_heading_ns.find(id);
   if (!Gate(Mahalanobis<1>(y, H, R), options.heading_gate_chi2, m.header.stamp_ns,
-            last == last_accepted_heading_ns.end() ? diag.initialized_at_ns : last->second)) {
+            last == last_accepted_heading_ns.end() ? initialized_ns : last->second)) {
     Reject(id, RejectReason::kMahalanobisGate);
     return;
   }
@@ -105,11 +107,23 @@ void EkfSingleTrackEstimator::Impl::UpdateGnss(const std::string& id, const Sens
   const Vec2 y = fix.p_enu.head<2>() - predicted;
   const Mat2 R = cov.topLeftCorner<2, 2>();
   const auto last = last_accepted_gnss_ns.find(id);
-  if (!Gate(Mahalanobis<2>(y, H, R), options.gnss_gate_chi2, fix.header.stamp_ns,
-            last == last_accepted_gnss_ns.end() ? diag.initialized_at_ns : last->second)) {
+  const double d2 = Mahalanobis<2>(y, H, R);
+  const bool outside = !(d2 <= options.gnss_gate_chi2);
+  RefusedFixTrack& refused = refused_fixes[id];
+  if (outside) refused.Refused(fix);
+  if (!Gate(d2, options.gnss_gate_chi2, fix.header.stamp_ns,
+            last == last_accepted_gnss_ns.end() ? initialized_ns : last->second)) {
     Reject(id, RejectReason::kMahalanobisGate);
     return;
   }
+  // The gate has refused every fix for gate_reset_s and the refused fixes agree with each other:
+  // the filter is off, not the receiver.
+  if (outside && refused.Agrees()) {
+    Reject(id, RejectReason::kMahalanobisGate);
+    StartOver(id, fix.header.stamp_ns, "lost");
+    return;
+  }
+  refused.Clear();
   Update<2>(y, H, R);
   // Altitude of the body origin (flat vehicle: the lever arm's z is a constant offset).
   const double z_meas = fix.p_enu.z() - info.p_body_sensor.z();
@@ -178,13 +192,33 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
   Pz = cov(2, 2);
   t_ns = fix.header.stamp_ns;
   initialized = true;
-  diag.initialized = true;
-  diag.initialized_at_ns = t_ns;
-  diag.initialization = "moving (gnss course)";
+  initialized_ns = t_ns;
+  if (diag.initialized) {
+    char at[32];
+    std::snprintf(at, sizeof(at), "%.3f", ToSeconds(t_ns));
+    diag.reinitializations.push_back("moving (gnss course) at " + std::string(at) + " s");
+  } else {
+    diag.initialized = true;
+    diag.initialized_at_ns = t_ns;
+    diag.initialization = "moving (gnss course)";
+  }
   if (last_imu_ns) {
     Propagate(*last_imu_ns);
     PushHistory();
   }
+}
+
+void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stamp_ns,
+                                              const char* event) {
+  diag.lost_at_ns.push_back(stamp_ns);
+  ++diag.sensors[id].events[event];
+  initialized = false;
+  first_fix.reset();
+  history.clear();
+  refused_fixes.clear();
+  last_accepted_gnss_ns.clear();
+  last_accepted_speed_ns.clear();
+  last_accepted_heading_ns.clear();
 }
 
 }  // namespace statebench::est

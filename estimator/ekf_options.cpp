@@ -73,6 +73,8 @@ const OptionTable<EkfOptions>& EkfOptionTable() {
         .Number("gate_reset_s", &E::gate_reset_s, p, "a gate opens after this many s of rejections")
         .Number("max_delay_s", &E::max_delay_s, p, "older measurements are too old")
         .Number("history_s", &E::history_s, p, "StateAt() serves stamps this far back")
+        .Section("imu_limits", &E::imu_limits, ImuLimitsOptionTable(),
+                 "saturated or implausible IMU samples, and IMU gaps")
         .AddRule([](const E& o) -> std::optional<std::pair<std::string, std::string>> {
           if (o.blend_high_speed_mps > o.blend_low_speed_mps) return std::nullopt;
           return std::make_pair(std::string("blend_high_speed_mps"),

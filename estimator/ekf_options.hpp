@@ -11,6 +11,7 @@
 
 #include "core/option_table.hpp"
 #include "core/yaml_node.hpp"
+#include "estimator/measurement_checks.hpp"
 
 namespace statebench::est {
 
@@ -69,6 +70,7 @@ struct EkfOptions {
   double gate_reset_s = 10.0;
   double max_delay_s = 1.0;  // older measurements (stamp behind the filter) are kTooOld
   double history_s = 2.0;    // StateAt() serves stamps this far behind the newest IMU sample
+  ImuLimits imu_limits;      // saturated or implausible samples, gaps (measurement_checks.hpp)
 
   bool IsValid(std::string* why = nullptr) const;
 };

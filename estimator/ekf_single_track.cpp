@@ -127,11 +127,17 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
     Reject(id, RejectReason::kStampBackwards);
     return;
   }
-  if (const auto reason = CheckImuSample(sample)) {
+  if (auto reason = CheckImuSample(sample); reason || (reason = CheckImuLimits(
+                                                          sample, options.imu_limits))) {
     Reject(id, *reason);
     return;
   }
   Accept(id, sample.header.stamp_ns);
+  // A pause of the IMU stream the model cannot bridge: start over from the next fixes.
+  if (initialized && last_imu_ns &&
+      sample.header.stamp_ns - *last_imu_ns > FromSeconds(options.imu_limits.max_gap_s)) {
+    StartOver(id, sample.header.stamp_ns, "imu_gap");
+  }
   const Vec3 gyro_body = R_body_imu * sample.gyro;
   const Vec3 accel_body = R_body_imu * sample.accel;
   accel_x = accel_body.x();

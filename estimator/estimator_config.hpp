@@ -23,6 +23,7 @@
 #include "core/se3.hpp"
 #include "core/yaml_node.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/measurement_checks.hpp"
 #include "estimator/motion_factor_options.hpp"
 #include "estimator/robust_kernel.hpp"
 
@@ -143,6 +144,7 @@ struct FactorGraphOptions {
   KinematicFactorOptions kinematic;
   NonHolonomicOptions non_holonomic;
   ZeroVelocityOptions zero_velocity;
+  ImuLimits imu_limits;
 
   bool IsValid(std::string* why = nullptr) const;
   double ReorderLatency(const EstimatorSensorSetup& setup) const;

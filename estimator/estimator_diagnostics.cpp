@@ -34,6 +34,8 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "disabled";
     case RejectReason::kRegistrationFailed:
       return "registration_failed";
+    case RejectReason::kSaturated:
+      return "saturated";
   }
   return "unknown";
 }

@@ -28,6 +28,7 @@ enum class RejectReason {
   kDisabled,             // the factor using it is switched off in the estimator options
   kRegistrationFailed,   // lidar scan not registered (empty, too few points, ICP failure);
                          // the detail is counted in SensorCounters::events
+  kSaturated,            // IMU sample beyond the estimator's imu_limits (saturated or implausible)
 };
 
 std::string_view RejectReasonName(RejectReason reason);

@@ -22,7 +22,7 @@ struct FactorGraphEstimator::Impl {
         plan(PlanFactors(setup, o)),
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
             setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
-        intake(setup, FromSeconds(o.ReorderLatency(setup))),
+        intake(setup, FromSeconds(o.ReorderLatency(setup)), o.imu_limits),
         front_end_set(MakeFrontEnds(setup, plan, options, ctx)) {
     for (const auto& f : front_end_set.all) front_ends.push_back(f.get());
   }
@@ -43,8 +43,19 @@ struct FactorGraphEstimator::Impl {
 
   void Add(const Measurement& m) {
     const Claim claim = Route(m).second;
+    const TimeNs previous_imu_ns = ctx.newest_imu_ns;
     const Admission admission = intake.Admit(m, claim, ctx);
     if (admission == Admission::kImu) {
+      // A pause of the IMU stream no integration can bridge: start over from the sensors.
+      if (ctx.initialized && previous_imu_ns != INT64_MIN &&
+          ctx.newest_imu_ns - previous_imu_ns > FromSeconds(options.imu_limits.max_gap_s)) {
+        ctx.diag.lost_at_ns.push_back(ctx.newest_imu_ns);
+        ctx.Count(HeaderOf(m).sensor_id, "imu_gap");
+        for (const Measurement& old : intake.DropBefore(ctx.newest_imu_ns)) {
+          ctx.Count(HeaderOf(old).sensor_id, "dropped_at_restart");
+        }
+        StartOver();
+      }
       ctx.output.AddImu(std::get<ImuSample>(m));
       Release(intake.Release(ctx.newest_imu_ns));
     } else if (admission == Admission::kLate) {  // no order guarantee: at once

@@ -240,7 +240,9 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Section("lidar", &F::lidar, LidarTable(), "lidar odometry factors")
       .Section("kinematic", &F::kinematic, KinematicTable(), "encoder kinematic factor")
       .Section("non_holonomic", &F::non_holonomic, NonHolonomicTable(), "non-holonomic constraint")
-      .Section("zero_velocity", &F::zero_velocity, ZeroVelocityTable(), "zero-velocity factor");
+      .Section("zero_velocity", &F::zero_velocity, ZeroVelocityTable(), "zero-velocity factor")
+      .Section("imu_limits", &F::imu_limits, ImuLimitsOptionTable(),
+               "saturated or implausible IMU samples, and IMU gaps");
   return t;
 }
 

@@ -8,13 +8,6 @@
 #include "estimator/measurement_gate.hpp"
 
 namespace statebench::est {
-namespace {
-
-constexpr std::size_t kLostMinFixes = 5;  // refused fixes that must agree before "lost"
-constexpr double kLostMaxSpeedMps = 70.0;
-
-}  // namespace
-
 
 GnssFrontEnd::GnssFrontEnd(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
                            FrontEndContext& ctx)
@@ -78,21 +71,8 @@ void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
 
 void GnssFrontEnd::OnRestart() {
   accepted_.clear();
-  rejected_.clear();
+  refused_.Clear();
   gnss_gate_ = heading_gate_ = GateState{};
-}
-
-bool GnssFrontEnd::RejectedFixesAgree() const {
-  if (rejected_.size() < kLostMinFixes) return false;
-  for (std::size_t k = 1; k < rejected_.size(); ++k) {
-    const GnssPositionEnu& a = rejected_[k - 1];
-    const GnssPositionEnu& b = rejected_[k];
-    const double dt = ToSeconds(b.header.stamp_ns - a.header.stamp_ns);
-    const double noise = std::sqrt(a.covariance(0, 0) + a.covariance(1, 1) +
-                                   b.covariance(0, 0) + b.covariance(1, 1));
-    if ((b.p_enu - a.p_enu).head<2>().norm() > kLostMaxSpeedMps * dt + 4.0 * noise) return false;
-  }
-  return true;
 }
 
 bool GnssFrontEnd::PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
@@ -115,16 +95,13 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
     const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
     const bool outside = d2 > options_.gnss.gate_chi2;
-    if (outside) {
-      rejected_.push_back(fix);
-      if (rejected_.size() > kLostMinFixes) rejected_.pop_front();
-    }
+    if (outside) refused_.Refused(fix);
     if (!PassesGate(options_.gnss, gnss_gate_, fix.header.stamp_ns, d2)) {
       return ctx_.Reject(id, RejectReason::kMahalanobisGate);
     }
     // The gate has refused every fix for gate_reset_s: if they agree with each other, the
     // estimate is lost; the estimator starts over from the sensors (this fix included).
-    if (outside && RejectedFixesAgree()) {
+    if (outside && refused_.Agrees()) {
       ctx_.lost = true;
       ctx_.diag.lost_at_ns.push_back(fix.header.stamp_ns);
       ctx_.Count(id, "lost");
@@ -132,7 +109,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
       return;
     }
   }
-  rejected_.clear();
+  refused_.Clear();
   if (ctx_.smoother.AddGnss(fix, lever) == AddResult::kTooOld) {
     return ctx_.Reject(id, RejectReason::kTooOld);
   }

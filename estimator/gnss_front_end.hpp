@@ -16,6 +16,7 @@
 #include "estimator/estimator_config.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/gnss_stamp_group.hpp"
+#include "estimator/refused_fix_track.hpp"
 
 namespace statebench::est {
 
@@ -69,12 +70,8 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   TimeNs stamp_ns_ = 0;
   GateState gnss_gate_, heading_gate_;
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
-  // Fixes the gate refused since the last accepted one (the newest few).
-  std::deque<GnssPositionEnu> rejected_;
-  // Whether the refused fixes (at least kLostMinFixes) follow one plausible path: consecutive
-  // ones no farther apart than a vehicle drives in between plus 4 sigma of their noise. Then it
-  // is the estimate that is off, not the receiver.
-  bool RejectedFixesAgree() const;
+  // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
+  RefusedFixTrack refused_;
 };
 
 }  // namespace statebench::est

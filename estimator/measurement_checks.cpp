@@ -15,6 +15,26 @@ std::optional<RejectReason> CheckImuSample(const ImuSample& sample) {
   return std::nullopt;
 }
 
+std::optional<RejectReason> CheckImuLimits(const ImuSample& sample, const ImuLimits& limits) {
+  if (sample.gyro.cwiseAbs().maxCoeff() > limits.max_gyro_radps ||
+      sample.accel.cwiseAbs().maxCoeff() > limits.max_accel_mps2) {
+    return RejectReason::kSaturated;
+  }
+  return std::nullopt;
+}
+
+OptionTable<ImuLimits> ImuLimitsOptionTable() {
+  OptionTable<ImuLimits> t("imu limits");
+  const OptionRange p = OptionRange::Positive();
+  t.Number("max_accel_mps2", &ImuLimits::max_accel_mps2, p,
+           "reject samples beyond (per axis; saturated or implausible)")
+      .Number("max_gyro_radps", &ImuLimits::max_gyro_radps, p,
+              "reject samples beyond (per axis; saturated or implausible)")
+      .Number("max_gap_s", &ImuLimits::max_gap_s, p,
+              "a longer pause of the IMU stream: start over from the sensors");
+  return t;
+}
+
 std::optional<RejectReason> CheckGnssFix(const GnssFix& fix) {
   if (!std::isfinite(fix.latitude_deg) || !std::isfinite(fix.longitude_deg) ||
       !std::isfinite(fix.altitude_m) || !fix.covariance_enu.allFinite()) {

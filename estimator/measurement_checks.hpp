@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/measurements.hpp"
+#include "core/option_table.hpp"
 #include "estimator/estimator_diagnostics.hpp"
 
 namespace statebench::est {
@@ -15,6 +16,21 @@ inline constexpr double kMaxAbsGyroRadps = 40.0;
 inline constexpr double kMaxAbsAccelMps2 = 200.0;
 
 std::optional<RejectReason> CheckImuSample(const ImuSample& sample);
+
+// What an IMU on a ground vehicle can plausibly read, and how long its stream may pause. A
+// sample beyond the limits (a shock that saturated the sensor, or a sensor gone mad) is rejected
+// as `saturated`; set the limits just below the IMU's own range to catch its saturation. A pause
+// longer than max_gap_s cannot be bridged by integrating the next sample: the estimator starts
+// over from the sensors (counted as the IMU's `imu_gap` event).
+struct ImuLimits {
+  double max_accel_mps2 = 100.0;  // per axis, about 10 g
+  double max_gyro_radps = 10.0;   // per axis, about 570 deg/s
+  double max_gap_s = 0.5;
+};
+
+std::optional<RejectReason> CheckImuLimits(const ImuSample& sample, const ImuLimits& limits);
+// The `imu_limits:` section of both estimators' options.
+OptionTable<ImuLimits> ImuLimitsOptionTable();
 
 // Non-finite values; latitude, longitude or altitude out of range (absurd, same limits as
 // GnssFixToEnu); status kNone (no fix); covariance not symmetric positive definite.

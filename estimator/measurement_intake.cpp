@@ -61,7 +61,7 @@ Admission MeasurementIntake::AdmitImu(const ImuSample& s, FrontEndContext& ctx) 
   std::optional<RejectReason> why;
   if (id != setup_.imu_id) {
     why = RejectReason::kUnknownSensor;
-  } else if (!(why = CheckImuSample(s))) {
+  } else if (!(why = CheckImuSample(s)) && !(why = CheckImuLimits(s, imu_limits_))) {
     if (s.header.stamp_ns <= ctx.newest_imu_ns) {
       why = RejectReason::kStampBackwards;
     } else if (AfterArrival(s.header)) {

@@ -22,8 +22,8 @@ enum class Admission { kRejected, kImu, kQueued, kLate };
 class MeasurementIntake {
  public:
   // `setup` must outlive the intake.
-  MeasurementIntake(const EstimatorSensorSetup& setup, TimeNs latency_ns)
-      : setup_(setup), latency_ns_(latency_ns) {}
+  MeasurementIntake(const EstimatorSensorSetup& setup, TimeNs latency_ns, const ImuLimits& limits)
+      : setup_(setup), latency_ns_(latency_ns), imu_limits_(limits) {}
 
   // Counts m as received and checks it; rejections are counted in ctx. An IMU sample that passes
   // becomes ctx.newest_imu_ns. `claim`: the best answer of the front ends for m.
@@ -31,6 +31,9 @@ class MeasurementIntake {
   // Every held measurement stamped at least the latency before the newest IMU sample, in stamp
   // order (IMU samples first within a stamp).
   std::vector<Measurement> Release(TimeNs newest_imu_ns);
+  // Takes every held measurement stamped before t_ns out of the stream (the estimator starts
+  // over after a gap: what came before it can no longer be used).
+  std::vector<Measurement> DropBefore(TimeNs t_ns) { return reorder_.Release(t_ns - 1); }
 
  private:
   bool AfterArrival(const MeasurementHeader& h) const;
@@ -39,6 +42,7 @@ class MeasurementIntake {
 
   const EstimatorSensorSetup& setup_;
   TimeNs latency_ns_;
+  ImuLimits imu_limits_;
   ReorderBuffer reorder_;
   TimeNs newest_arrival_ns_ = INT64_MIN;  // arrival stamps given (> 0) so far
   std::map<std::string, std::set<TimeNs>> seen_stamps_;

@@ -52,7 +52,8 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
                      const SensorRunOptions& options)
     : sensors_(LoadScenarioSensors(scenario)),
       sensor_seed_(options.sensor_seed.value_or(scenario.seed)),
-      cache_(options.cache) {
+      cache_(options.cache),
+      faults_(sensors_.faults.StreamFaults()) {
   {
     const StageScope stage(Stage::kSumo);
     truth_ = std::make_unique<TruthSimulation>(scenario, work_dir, options.sumo, cache_);
@@ -128,17 +129,17 @@ void SensorRun::PublishRecordings() {
 
 
 std::optional<Measurement> SensorRun::Next() {
-  const std::vector<SensorOutage>& outages = sensors_.faults.sensor_outages;
   const StageScope stage(Stage::kSensors);
-  while (true) {
+  while (pending_.empty()) {
     std::optional<Measurement> m = source_->Next();
-    if (!m || outages.empty()) return m;
-    const MeasurementHeader& h = HeaderOf(*m);
-    const bool silent = std::any_of(outages.begin(), outages.end(), [&](const SensorOutage& o) {
-      return o.Covers(h.sensor_id, h.stamp_ns);
-    });
-    if (!silent) return m;
+    if (!m || faults_.empty()) return m;
+    std::vector<Measurement> out;
+    faults_.Apply(*m, &out);
+    for (Measurement& x : out) pending_.push_back(std::move(x));
   }
+  Measurement m = std::move(pending_.front());
+  pending_.pop_front();
+  return m;
 }
 
 std::optional<TruthSample> SensorRun::NextTruth() {

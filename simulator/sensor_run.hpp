@@ -6,6 +6,8 @@
 //   - setup: the scenario's `sensors:` with its `faults:` applied (scenario_sensors.hpp);
 //   - lidar world: built from the SUMO run's lanes, junctions and traffic over the fitted terrain
 //     (world_from_sumo.hpp); each lidar entry becomes a LidarSensorModel added to the suite;
+//   - faults: the scenario's sensor outages and injected faults act on the stream between the
+//     sensors and its reader (core/measurement_faults.hpp);
 //   - urban canyon (when the scenario's faults ask for it, scenario_faults.hpp): the GNSS
 //     receivers count the satellites of a synthetic constellation (seeded, above the scenario
 //     origin) that the world's static surfaces do not block;
@@ -16,11 +18,13 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
 
+#include "core/measurement_faults.hpp"
 #include "core/se3.hpp"
 #include "sensors/cached_sensor_model.hpp"
 #include "sensors/lidar_world.hpp"
@@ -72,6 +76,8 @@ class SensorRun : public sensors::MeasurementSource {
   // The lidar world (nullptr when the setup has no lidar and the urban canyon is off).
   std::shared_ptr<const sensors::LidarWorld> world() const { return world_; }
   std::uint64_t sensor_seed() const { return sensor_seed_; }
+  // The scenario's outages and injected faults, with how many measurements each acted on.
+  const MeasurementFaultInjector& faults() const { return faults_; }
   // Mount of the setup's first IMU (the vehicle's default IMU mount without one).
   SE3 T_body_imu() const;
 
@@ -94,6 +100,8 @@ class SensorRun : public sensors::MeasurementSource {
   std::function<void(const TruthSample&)> observer_;
   StageCacheUse cache_;
   std::vector<Recording> recordings_;
+  MeasurementFaultInjector faults_;
+  std::deque<Measurement> pending_;  // delivered before the next measurement of the sensors
 };
 
 }  // namespace statebench::sim

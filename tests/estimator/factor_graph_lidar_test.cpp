@@ -4,9 +4,11 @@
 // require a sensor the setup lacks fail when the estimator is built.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/measurement_faults.hpp"
 #include "estimator/factor_graph_estimator.hpp"
 #include "estimator_scenario.hpp"
 #include "synthetic_lidar_scene.hpp"
@@ -158,6 +160,45 @@ TEST(FactorGraphLidar, UnusableScansAreRejectedWithTheirReason) {
   EXPECT_EQ(lidar.events.at("empty scan"), 1u);
   EXPECT_EQ(lidar.events.at("too few points"), 2u);
   EXPECT_LT(r.max_position_error, 0.02);
+}
+
+// A lidar that returns garbage for 2 s (every point at the origin, every point 1e6 m away along
+// its ray, or NaN in every tenth point: core/measurement_faults.hpp): the garbage scans are
+// rejected and counted, nothing non-finite comes out, and the lidar factors resume afterwards.
+TEST(FactorGraphLidar, GarbageScansAreRejectedAndTheLidarResumes) {
+  ScenarioOptions so;
+  so.duration_s = 14.0;
+  const Scenario sc = MakeScenario(so);
+  const std::vector<Measurement> clean = WithScans(sc, 4.0, 14.0);
+  for (int variant = 0; variant < 3; ++variant) {
+    MeasurementFault f;
+    f.kind = variant == 2 ? MeasurementFaultKind::kNonFinite : MeasurementFaultKind::kLidarGarbage;
+    f.far_m = variant == 1 ? 1e6 : 0.0;
+    f.value = std::numeric_limits<double>::quiet_NaN();
+    f.sensors = {"lidar_roof"};
+    f.start_s = 7.0;
+    f.end_s = 9.0;
+    MeasurementFaultInjector injector({f});
+    std::vector<Measurement> stream;
+    for (const Measurement& m : clean) injector.Apply(m, &stream);
+    ASSERT_EQ(injector.affected()[0], 20u);
+    const Outcome r = RunWithLidar(sc, stream, 5.0);
+    SCOPED_TRACE("variant " + std::to_string(variant));
+    EXPECT_EQ(r.non_finite, 0);
+    EXPECT_LT(r.max_position_error, 0.02);
+    const SensorCounters& lidar = r.diagnostics.sensors.at("lidar_roof");
+    if (variant < 2) {  // every point unusable: every garbage scan refused
+      EXPECT_GE(lidar.TotalRejected(), 20u);
+    }
+    int lidar_updates_after = 0;
+    for (const UpdateDiagnostics& u : r.diagnostics.updates) {
+      const auto it = u.factors.find("relative_pose");
+      if (u.t_ns > FromSeconds(11.0) && it != u.factors.end() && it->second > 0) {
+        ++lidar_updates_after;
+      }
+    }
+    EXPECT_GT(lidar_updates_after, 10);
+  }
 }
 
 TEST(FactorGraphLidar, OptionsRequiringAMissingSensorFailAtConstruction) {

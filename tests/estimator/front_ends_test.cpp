@@ -58,7 +58,7 @@ std::uint64_t Rejected(const FrontEndContext& ctx, const std::string& id, Reject
 
 TEST(MeasurementIntake, ChecksEachMeasurementAndReleasesInStampOrder) {
   Fixture f;
-  MeasurementIntake intake(f.setup, FromSeconds(0.15));
+  MeasurementIntake intake(f.setup, FromSeconds(0.15), ImuLimits{});
   const TimeNs ms = kNsPerMillisecond;
   EXPECT_EQ(intake.Admit(Imu(10 * ms), Claim::kOtherKind, f.ctx), Admission::kImu);
   EXPECT_EQ(intake.Admit(Imu(10 * ms), Claim::kOtherKind, f.ctx), Admission::kRejected);
@@ -96,7 +96,7 @@ TEST(MeasurementIntake, ChecksEachMeasurementAndReleasesInStampOrder) {
 
 TEST(MeasurementIntake, StampAfterItsArrivalIsRefused) {
   Fixture f;
-  MeasurementIntake intake(f.setup, FromSeconds(0.15));
+  MeasurementIntake intake(f.setup, FromSeconds(0.15), ImuLimits{});
   EXPECT_EQ(intake.Admit(Imu(FromSeconds(1.0), FromSeconds(1.0)), Claim::kOtherKind, f.ctx),
             Admission::kImu);
   EXPECT_EQ(intake.Admit(Imu(FromSeconds(5.0), FromSeconds(1.01)), Claim::kOtherKind, f.ctx),

@@ -6,6 +6,10 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+
+#include "core/geodetic.hpp"
+#include "core/measurement_faults.hpp"
 
 #include "sumo_test_support.hpp"
 
@@ -133,6 +137,100 @@ TEST(ScenarioSensors, ErrorsNameFileLineAndField) {
       std::string::npos);
   EXPECT_NE(error("sensors: setup3_shuttle\nfaults: {urban_canyon: {elevation_mask_deg: 95}}\n")
                 .find("field 'faults.urban_canyon.elevation_mask_deg': must be in [0, 90)"),
+            std::string::npos);
+}
+
+TEST(ScenarioSensors, InjectedFaultsAreParsedCheckedAndActOnTheStream) {
+  TempDir dir;
+  const ScenarioSensors s = LoadScenarioSensors(
+      GridWith(dir,
+               "sensors: setup3_shuttle\n"
+               "faults:\n"
+               "  sensor_outages:\n"
+               "    - {sensors: [imu], start_s: 50, end_s: 60}\n"
+               "  injected:\n"
+               "    - {type: gnss_jump, start_s: 40, end_s: 45, offset_m: [100, 0, 0]}\n"
+               "    - {type: non_finite, sensors: [imu], start_s: 30, end_s: 31, value: -inf}\n"
+               "    - {type: gnss_overconfident, start_s: 10, sigma_m: 0.01}\n"
+               "    - {type: clock_jump, sensors: [gnss_roof], start_s: 1, shift_s: -1}\n"
+               "    - {type: lidar_garbage, start_s: 1, end_s: 2, far_m: 1e6}\n"
+               "    - {type: imu_saturation, start_s: 1, end_s: 2}\n"
+               "    - {type: duplicate, start_s: 1, end_s: 2}\n"
+               "    - {type: stamps_backwards, sensors: [imu], start_s: 1, end_s: 2}\n"));
+  ASSERT_EQ(s.faults.injected.size(), 8u);
+  const MeasurementFault& jump = s.faults.injected[0];
+  EXPECT_EQ(jump.kind, MeasurementFaultKind::kGnssJump);
+  EXPECT_TRUE(jump.sensors.empty());
+  EXPECT_EQ(jump.offset_m, Vec3(100, 0, 0));
+  EXPECT_EQ(s.faults.injected[1].value, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(s.faults.injected[2].offset_m, Vec3(20, 0, 0));  // default: 20 m off
+  EXPECT_TRUE(std::isinf(s.faults.injected[2].end_s));
+  EXPECT_EQ(s.faults.injected[3].shift_s, -1.0);
+  EXPECT_EQ(s.faults.injected[4].far_m, 1e6);
+  EXPECT_NEAR(s.faults.injected[5].accel_limit_mps2, 16 * 9.80665, 1e-9);
+  // The stream's faults: the outage as a gap first, then the injected ones in order.
+  const std::vector<MeasurementFault> stream = s.faults.StreamFaults();
+  ASSERT_EQ(stream.size(), 9u);
+  EXPECT_EQ(stream[0].kind, MeasurementFaultKind::kGap);
+  EXPECT_EQ(stream[1].kind, MeasurementFaultKind::kGnssJump);
+
+  // On measurements: a gap drops, a jump moves the fix, duplicate repeats, non-finite writes.
+  MeasurementFaultInjector injector(stream);
+  std::vector<Measurement> out;
+  ImuSample imu;
+  imu.header = {"imu", FromSeconds(55.0), FromSeconds(55.0)};
+  injector.Apply(imu, &out);
+  EXPECT_TRUE(out.empty());
+  imu.header = {"imu", FromSeconds(30.5), FromSeconds(30.5)};
+  injector.Apply(imu, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(std::get<ImuSample>(out[0]).gyro.x(), -std::numeric_limits<double>::infinity());
+  out.clear();
+  GnssFix fix;
+  fix.header = {"gnss_roof", FromSeconds(42.0), FromSeconds(42.1)};
+  fix.latitude_deg = 48.7;
+  fix.longitude_deg = 2.2;
+  fix.covariance_enu = Mat3::Identity();
+  injector.Apply(fix, &out);
+  ASSERT_EQ(out.size(), 1u);
+  const LocalEnuFrame frame({48.7, 2.2, 0.0});
+  const auto& moved = std::get<GnssFix>(out[0]);
+  const Vec3 d = frame.ToEnu({moved.latitude_deg, moved.longitude_deg, moved.altitude_m});
+  EXPECT_NEAR(d.x(), 120.0, 1e-6);  // 100 m jump + 20 m overconfident offset
+  EXPECT_NEAR(moved.covariance_enu(0, 0), 1e-4, 1e-12);
+  EXPECT_EQ(moved.header.stamp_ns, FromSeconds(41.0));  // clock 1 s behind
+  out.clear();
+  imu.header = {"imu", FromSeconds(1.5), FromSeconds(1.5)};
+  imu.accel = Vec3(0.1, -0.2, 9.8);
+  injector.Apply(imu, &out);
+  ASSERT_EQ(out.size(), 2u);  // duplicated
+  const auto& rail = std::get<ImuSample>(out[1]);
+  EXPECT_NEAR(rail.accel.y(), -16 * 9.80665, 1e-9);
+  EXPECT_EQ(rail.header.stamp_ns, FromSeconds(0.5));  // stamped 1 s back
+  ASSERT_EQ(injector.affected().size(), 9u);
+  EXPECT_EQ(injector.affected()[0], 1u);  // the gap
+  EXPECT_EQ(injector.affected()[1], 1u);  // the jump
+
+  const auto error = [&](const std::string& entry) {
+    return InputErrorOf([&] {
+      LoadScenarioSensors(
+          GridWith(dir, "sensors: setup3_shuttle\nfaults:\n  injected:\n    - " + entry + "\n"));
+    });
+  };
+  EXPECT_NE(error("{type: melt, start_s: 1}").find("field 'faults.injected[0].type': unknown "
+                                                  "fault type 'melt'"),
+            std::string::npos);
+  EXPECT_NE(error("{type: gnss_jump, sensors: [imu], start_s: 1}")
+                .find("field 'faults.injected[0].sensors[0]': a gnss_jump fault does not apply "
+                      "to 'imu' (sensor type imu)"),
+            std::string::npos);
+  EXPECT_NE(error("{type: duplicate, start_s: 1, sigma_m: 2}")
+                .find("field 'faults.injected[0].sigma_m': not an option of a duplicate fault"),
+            std::string::npos);
+  EXPECT_NE(error("{type: non_finite, start_s: 1, value: banana}").find("value"),
+            std::string::npos);
+  EXPECT_NE(error("{type: gnss_jump, start_s: 5, end_s: 1}")
+                .find("field 'faults.injected[0].end_s': must be after start_s"),
             std::string::npos);
 }
 
