@@ -21,6 +21,26 @@ std::string Describe(const YAML::Node& node) {
   return "'" + node.Scalar() + "'";
 }
 
+// Every map key must be a plain scalar (a list or map used as a key, e.g. `{[a, b]: 1}`, is YAML
+// but never a field name): checked once at load, so every reader may take keys as strings.
+// Depth-limited like the documents people write; deeper nesting is refused the same way.
+void CheckKeys(const YAML::Node& node, const std::string& source, int depth = 0) {
+  const auto fail = [&source](const YAML::Mark& mark, const std::string& what) {
+    std::ostringstream os;
+    os << source << ":" << mark.line + 1 << ":" << mark.column + 1 << ": " << what;
+    throw InputError(os.str());
+  };
+  if (depth > 64) fail(node.Mark(), "nested more than 64 levels deep");
+  if (node.IsMap()) {
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) fail(kv.first.Mark(), "a map key must be a plain name");
+      CheckKeys(kv.second, source, depth + 1);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& child : node) CheckKeys(child, source, depth + 1);
+  }
+}
+
 }  // namespace
 
 YamlNode YamlNode::LoadFile(const std::filesystem::path& path) {
@@ -37,6 +57,7 @@ YamlNode YamlNode::LoadFile(const std::filesystem::path& path) {
        << ": YAML syntax error: " << e.msg;
     throw InputError(os.str());
   }
+  CheckKeys(root, path.string());
   return YamlNode(root, path.string(), "", root.Mark());
 }
 
@@ -50,6 +71,7 @@ YamlNode YamlNode::LoadString(const std::string& text, const std::string& source
        << ": YAML syntax error: " << e.msg;
     throw InputError(os.str());
   }
+  CheckKeys(root, source_name);
   return YamlNode(root, source_name, "", root.Mark());
 }
 

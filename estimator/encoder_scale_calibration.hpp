@@ -48,7 +48,6 @@ class EncoderScaleCalibration {
   double window_m_;
   double min_distance_m_;
   std::deque<std::pair<TimeNs, double>> speeds_;  // (stamp, raw speed), recent
-  TimeNs last_speed_ns_ = 0;
   std::optional<NavState> last_state_;
   std::deque<Span> spans_;
   double sum_smoothed_m_ = 0.0;

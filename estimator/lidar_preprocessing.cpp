@@ -81,6 +81,9 @@ std::vector<Vec3> VoxelDownsample(const std::vector<Vec3>& points, double voxel_
   std::vector<Vec3> out;
   for (const Vec3& p : points) {
     const Vec3 s = p / voxel_size_m;
+    // Farther than any int voxel index (garbage deskewed by a garbage pose; found by
+    // fuzz_estimators): dropped, the cast would be undefined.
+    if (!(s.cwiseAbs().maxCoeff() < 1e9)) continue;
     const Eigen::Vector3i key(static_cast<int>(std::floor(s.x())),
                               static_cast<int>(std::floor(s.y())),
                               static_cast<int>(std::floor(s.z())));

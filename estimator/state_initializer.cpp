@@ -11,7 +11,6 @@ namespace statebench::est {
 namespace {
 
 constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;   // IMU and fixes kept before init
-constexpr TimeNs kSpeedBaselineNs = kNsPerSecond;  // fixes this far apart give the speed
 constexpr double kMaxStillGravityError = 0.5;      // | |f| - g | in a still period, m/s^2
 
 // Mean and per-axis standard deviation of a 3-vector signal.

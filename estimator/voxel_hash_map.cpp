@@ -9,7 +9,9 @@ namespace statebench::est {
 VoxelHashMap::VoxelHashMap(const VoxelHashMapOptions& options) : options_(options) {}
 
 VoxelHashMap::Voxel VoxelHashMap::VoxelOf(const Vec3& p) const {
-  const Vec3 s = p / options_.voxel_size_m;
+  // Clamped into the int range (a far or non-finite point lands in an edge voxel; the cast of an
+  // out-of-range double is undefined).
+  const Vec3 s = (p / options_.voxel_size_m).cwiseMax(-1e9).cwiseMin(1e9);
   return Voxel(static_cast<int>(std::floor(s.x())), static_cast<int>(std::floor(s.y())),
                static_cast<int>(std::floor(s.z())));
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs every Debian package StateBench needs (idempotent; sudo when not root) and builds the
-# project in Release into build/. Usage: bash scripts/setup.sh [--no-build]
+# project in Release into build/. Usage: bash scripts/setup.sh [--no-build | --no-bench]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -10,6 +10,7 @@ PACKAGES=(
   libbullet-dev libpcl-dev libsqlite3-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev  # bench only: lidar_raycast_bench's Embree comparison
+  clang libclang-rt-14-dev  # scripts/sanitize.sh: sanitizer build and libFuzzer targets
   sumo sumo-tools
 )
 
@@ -43,6 +44,9 @@ fi
 export SUMO_HOME="${SUMO_HOME:-/usr/share/sumo}"
 
 if [ "${1:-}" != "--no-build" ]; then
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+  # --no-bench (the test command): the Google Benchmark programs are left out of this build.
+  bench=ON
+  if [ "${1:-}" = "--no-bench" ]; then bench=OFF; fi
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSTATEBENCH_BUILD_BENCHMARKS=$bench
   cmake --build build -j"$(nproc)"
 fi

@@ -49,6 +49,16 @@ TEST(YamlNode, SyntaxErrorNamesLine) {
   EXPECT_NE(msg.find("syntax error"), std::string::npos) << msg;
 }
 
+TEST(YamlNode, AKeyThatIsNotAPlainNameNamesItsLine) {
+  // Found by fuzz_config: a flow list as a map key escaped as yaml-cpp's BadConversion.
+  const std::string msg = ErrorOf([] {
+    YamlNode::LoadString("a: 1\nT: {translation: [0, 0, 0], rpy_deg: 00,[ .0.0, 0.0]}\n",
+                         "keys.yaml");
+  });
+  EXPECT_NE(msg.find("keys.yaml:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("a map key must be a plain name"), std::string::npos) << msg;
+}
+
 TEST(YamlNode, UnknownKeyIsRejected) {
   const YamlNode root = YamlNode::LoadString("mass: 1\nwheelbase_mm: 2\n", "v.yaml");
   const std::string msg = ErrorOf([&] { root.ExpectOnlyKeys({"mass", "wheelbase_m"}); });

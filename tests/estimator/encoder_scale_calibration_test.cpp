@@ -27,7 +27,9 @@ TEST(EncoderScaleCalibration, RecoversTheWheelRadiusErrorOnACircle) {
     const Vec3 v_imu = Vec3(v, 0.0, 0.0) + Vec3(0, 0, yaw_rate).cross(-T_imu_axle.translation());
     s.v_world = s.q_world_imu * v_imu;
     calib.AddSmoothedStates({s});  // states leave the window while the encoder runs on
-    if (k == 5) EXPECT_FALSE(calib.scale().has_value()) << "under 50 m compared";
+    if (k == 5) {
+      EXPECT_FALSE(calib.scale().has_value()) << "under 50 m compared";
+    }
   }
   ASSERT_TRUE(calib.scale().has_value());
   std::printf("calibrated scale %.5f (true %.5f)\n", *calib.scale(), true_scale);

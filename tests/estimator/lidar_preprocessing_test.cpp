@@ -42,6 +42,16 @@ double MeanSurfaceDistance(const testing::Scene& scene, const SE3& T_world_stamp
   return sum / static_cast<double>(points_stamp.size());
 }
 
+// Found by fuzz_estimators: a garbage point 2e10 voxels away made the voxel index cast undefined
+// (UBSan). Such points are dropped; the others are kept as before.
+TEST(LidarPreprocessing, VoxelDownsampleDropsPointsBeyondAnyVoxelIndex) {
+  const std::vector<Vec3> points = {Vec3(1.0, 2.0, 0.5), Vec3(1e10, 0.0, 0.0),
+                                    Vec3(0.0, -1e12, 3.0)};
+  const auto out = VoxelDownsample(points, 0.5);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0], points[0]);
+}
+
 TEST(LidarPreprocessing, DeskewWithTrueMotionRemovesDistortion) {
   // 15 m/s forward with a 30 deg/s yaw rate: 1.5 m and 3 deg during the 0.1 s sweep.
   const testing::Scene scene = testing::StructuredStreet();

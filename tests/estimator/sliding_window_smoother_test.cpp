@@ -228,7 +228,7 @@ struct Batch {
           nullptr, Blocks(*states[i]));
       problem.AddResidualBlock(
           DualAntennaFactor::Create(sc.headings[f], kRearAntenna, kFrontAntenna, pim.delta_q()),
-          nullptr, {states[i]->q_world_imu.data()});
+          nullptr, states[i]->q_world_imu.data());
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;

@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Seed corpora of the fuzz targets, from the project's own files (scripts/fuzz.sh calls this).
+
+make_seeds.py SOURCE_DIR LOG_DIR OUT_DIR
+  SOURCE_DIR: the repository (scenarios/, setups, options, vehicles)
+  LOG_DIR:    a short log recorded by `statebench record` (its files, cut to a few rows)
+  OUT_DIR:    gets fuzz_config/, fuzz_log_reader/ and fuzz_estimators/ seed folders
+"""
+import glob
+import os
+import random
+import struct
+import sys
+
+
+def write(path, data):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
+        f.write(data)
+
+
+def config_seeds(src, out):
+    groups = [
+        (0, "scenarios/paper/*.yaml"), (0, "scenarios/extra/*.yaml"),
+        (1, "scenarios/setups/*.yaml"), (2, "scenarios/setups/*.yaml"),
+        (3, "scenarios/estimators/factor_graph*.yaml"), (4, "scenarios/estimators/ekf*.yaml"),
+        (5, "scenarios/vehicles/*.yaml"),
+    ]
+    n = 0
+    for parser, pattern in groups:
+        for path in sorted(glob.glob(os.path.join(src, pattern))):
+            with open(path, "rb") as f:
+                text = f.read()
+            if parser == 0:  # relative setup paths must still resolve from the scratch folder
+                text = text.replace(b"../setups/", (src + "/scenarios/setups/").encode())
+            write(os.path.join(out, "fuzz_config", "%03d" % n), bytes([parser]) + text)
+            n += 1
+
+
+def head(path, lines):
+    with open(path, "rb") as f:
+        return b"".join(f.readline() for _ in range(lines))
+
+
+def small_pcd(path, points):
+    """The PCD cut to its first `points` points (binary data, 22 bytes each)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"DATA binary\n") + len(b"DATA binary\n")
+    header = data[:end].decode()
+    lines = []
+    for line in header.splitlines():
+        key = line.split(" ")[0]
+        if key in ("WIDTH", "POINTS"):
+            line = "%s %d" % (key, points)
+        lines.append(line)
+    return ("\n".join(lines) + "\n").encode() + data[end:end + 22 * points]
+
+
+def log_seeds(log, out):
+    files = [("log.yaml", open(os.path.join(log, "log.yaml"), "rb").read()),
+             ("setup.yaml", open(os.path.join(log, "setup.yaml"), "rb").read()),
+             ("truth.csv", head(os.path.join(log, "truth.csv"), 4))]
+    for csv in sorted(glob.glob(os.path.join(log, "*", "*.csv"))):
+        rel = os.path.relpath(csv, log)
+        files.append((rel, head(csv, 4)))
+        folder = csv[:-4]
+        if os.path.isdir(folder):  # a lidar: its first sweeps, 8 points each
+            for pcd in sorted(os.listdir(folder))[:3]:
+                files.append((os.path.relpath(os.path.join(folder, pcd), log),
+                              small_pcd(os.path.join(folder, pcd), 8)))
+    whole = b"".join(b"== " + name.encode() + b"\n" + content for name, content in files)
+    write(os.path.join(out, "fuzz_log_reader", "whole_log"), whole)
+    # One seed per file beside the manifest, so mutations reach every parser early.
+    manifest = files[0]
+    for i, (name, content) in enumerate(files[1:]):
+        part = b"== %s\n%s== %s\n%s" % (manifest[0].encode(), manifest[1], name.encode(), content)
+        write(os.path.join(out, "fuzz_log_reader", "part_%02d" % i), part)
+
+
+def estimator_seeds(out):
+    """Records after the clean prefix (fuzz_estimators.cpp's layout): IMU samples of a car at
+    rest, fixes near the drive's origin, encoders, a tiny scan."""
+    rnd = random.Random(7)
+    for which in range(3):
+        b = bytes([which, 15])
+        for k in range(60):
+            kind = k % 8
+            sensor = {0: 0, 1: 1, 2: 3, 3: 6, 4: 4, 5: 5, 6: 7, 7: 8}[kind]
+            b += struct.pack("<BBhh", kind, sensor, 10, 2)
+            if kind == 0:
+                b += struct.pack("<6d", 0.001, -0.002, 0.01, 0.1, 0.0, 9.81)
+            elif kind == 1:
+                b += struct.pack("<3d", 45.478 + rnd.random() * 1e-5, 9.227, 121.4)
+                b += struct.pack("<9d", 4e-4, 0, 0, 0, 4e-4, 0, 0, 0, 1.6e-3) + bytes([3])
+            elif kind == 2:
+                b += struct.pack("<4d", 0.1, 0.0, 0.01, 0.02)
+            elif kind == 3:
+                b += struct.pack("<4d", 20.0, 20.0, 20.0, 20.0)
+            elif kind == 4:
+                b += struct.pack("<d", 8.0)
+            elif kind == 5:
+                b += struct.pack("<d", 0.1)
+            elif kind == 6:
+                b += bytes([4]) + b"".join(struct.pack("<5fH", 5.0 + i, 1.0, 0.5, 10.0, 0.01 * i, i)
+                                           for i in range(4))
+            else:
+                b += struct.pack("<6d", 8.0, 0, 0, 0, 0, 0.1)
+                b += struct.pack("<36d", *[0.01 if i % 7 == 0 else 0.0 for i in range(36)])
+        write(os.path.join(out, "fuzz_estimators", "drive_%d" % which), b)
+
+
+def main():
+    src, log, out = sys.argv[1:4]
+    config_seeds(src, out)
+    log_seeds(log, out)
+    estimator_seeds(out)
+
+
+if __name__ == "__main__":
+    main()
