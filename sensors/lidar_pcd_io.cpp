@@ -6,10 +6,10 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "core/error.hpp"
+#include "sensors/pcd_header.hpp"
 
 namespace statebench::sensors {
 namespace {
@@ -56,69 +56,78 @@ pcl::PCLPointCloud2 ToCloud(const std::vector<LidarPoint>& points) {
   throw InputError(file.string() + ": " + what);
 }
 
-std::optional<std::uint32_t> OffsetOf(const pcl::PCLPointCloud2& cloud, const char* name,
-                                      std::uint8_t datatype, const fs::path& file) {
-  for (const PCLPointField& f : cloud.fields) {
-    if (f.name != name) continue;
-    if (f.datatype != datatype || f.count != 1) {
-      Fail(file, std::string("field '") + name + "' has type " + std::to_string(f.datatype) +
-                     " x " + std::to_string(f.count) + ", expected " +
-                     (datatype == PCLPointField::FLOAT32 ? "float32 (F 4)" : "uint16 (U 2)") +
-                     " x 1");
-    }
-    return f.offset;
+// The offset of a field of the expected type in the header's binary layout, nullopt when the
+// file has no such field.
+std::optional<std::size_t> OffsetOf(const PcdHeader& header, const char* name, char type,
+                                    int size, const fs::path& file) {
+  const PcdField* f = header.Find(name);
+  if (f == nullptr) return std::nullopt;
+  if (f->type != type || f->size != size || f->count != 1) {
+    Fail(file, std::string("field '") + name + "' is " + f->type + " " + std::to_string(f->size) +
+                   " x " + std::to_string(f->count) + ", expected " + type + " " +
+                   std::to_string(size) + " x 1");
   }
-  return std::nullopt;
+  return f->offset;
 }
 
-// What the header of a PCD file announces, read without PCL (which prints its complaints, e.g. on
-// an empty cloud): point count, bytes per point, data encoding and where the data starts.
-struct PcdLayout {
-  std::uintmax_t points = 0;
-  std::uintmax_t point_step = 0;
-  std::string data;  // ascii | binary | binary_compressed
-  std::uintmax_t data_offset = 0;
+// Where each field of a LidarPoint lies in one point of the file's binary layout.
+struct PointLayout {
+  std::size_t x = 0, y = 0, z = 0;
+  std::optional<std::size_t> intensity, t, ring;
 };
 
-std::optional<PcdLayout> ScanPcdHeader(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  PcdLayout layout;
-  std::vector<std::uintmax_t> sizes, counts;
-  std::optional<std::uintmax_t> width, height, points;
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    std::uintmax_t v = 0;
-    if (key == "SIZE") {
-      while (words >> v) sizes.push_back(v);
-    } else if (key == "COUNT") {
-      while (words >> v) counts.push_back(v);
-    } else if (key == "WIDTH" && words >> v) {
-      width = v;
-    } else if (key == "HEIGHT" && words >> v) {
-      height = v;
-    } else if (key == "POINTS" && words >> v) {
-      points = v;
-    } else if (key == "DATA") {
-      words >> layout.data;
-      const std::streamoff offset = in.tellg();
-      if (offset < 0) return std::nullopt;
-      layout.data_offset = static_cast<std::uintmax_t>(offset);
-      if (counts.empty()) counts.assign(sizes.size(), 1);
-      if (sizes.empty() || counts.size() != sizes.size()) return std::nullopt;
-      for (std::size_t i = 0; i < sizes.size(); ++i) layout.point_step += sizes[i] * counts[i];
-      if (points) {
-        layout.points = *points;
-      } else if (width && height) {
-        layout.points = *width * *height;
-      } else {
-        return std::nullopt;
-      }
-      return layout;
-    }
+PointLayout LayoutOf(const PcdHeader& header, const fs::path& file) {
+  const auto x = OffsetOf(header, "x", 'F', 4, file);
+  const auto y = OffsetOf(header, "y", 'F', 4, file);
+  const auto z = OffsetOf(header, "z", 'F', 4, file);
+  if (!x || !y || !z) Fail(file, "needs the fields x, y and z");
+  return PointLayout{*x,
+                     *y,
+                     *z,
+                     OffsetOf(header, "intensity", 'F', 4, file),
+                     OffsetOf(header, "t", 'F', 4, file),
+                     OffsetOf(header, "ring", 'U', 2, file)};
+}
+
+std::vector<LidarPoint> Unpack(const std::uint8_t* data, std::size_t points,
+                               std::size_t point_step, const PointLayout& l) {
+  std::vector<LidarPoint> out(points);
+  for (std::size_t i = 0; i < points; ++i, data += point_step) {
+    LidarPoint& p = out[i];
+    std::memcpy(&p.x, data + l.x, sizeof(float));
+    std::memcpy(&p.y, data + l.y, sizeof(float));
+    std::memcpy(&p.z, data + l.z, sizeof(float));
+    if (l.intensity) std::memcpy(&p.intensity, data + *l.intensity, sizeof(float));
+    if (l.t) std::memcpy(&p.t, data + *l.t, sizeof(float));
+    if (l.ring) std::memcpy(&p.ring, data + *l.ring, sizeof(std::uint16_t));
   }
-  return std::nullopt;
+  return out;
+}
+
+// The data of a binary PCD, read directly: the header gave every offset and the exact size.
+std::vector<LidarPoint> ReadBinary(const fs::path& file, const PcdHeader& header,
+                                   const PointLayout& layout) {
+  const std::uint64_t bytes = header.points * header.point_step;
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(header.data_offset));
+  std::vector<std::uint8_t> data(static_cast<std::size_t>(bytes));
+  in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(bytes));
+  if (static_cast<std::uint64_t>(in.gcount()) != bytes) Fail(file, "cannot read its data");
+  return Unpack(data.data(), static_cast<std::size_t>(header.points), header.point_step, layout);
+}
+
+// ascii and binary_compressed data are PCL's to decode, once the header has been accepted.
+std::vector<LidarPoint> ReadWithPcl(const fs::path& file, const PcdHeader& header,
+                                    const PointLayout& layout) {
+  pcl::PCDReader reader;
+  pcl::PCLPointCloud2 cloud;
+  if (reader.read(file.string(), cloud) != 0) Fail(file, "PCL cannot read its data");
+  const std::size_t points = static_cast<std::size_t>(cloud.width) * cloud.height;
+  if (points != header.points || cloud.point_step != header.point_step ||
+      cloud.data.size() < points * cloud.point_step) {
+    Fail(file, "fewer points than announced");
+  }
+  return Unpack(cloud.data.data(), points, cloud.point_step, layout);
 }
 
 }  // namespace
@@ -141,45 +150,39 @@ void WriteLidarPcd(const fs::path& file, const std::vector<LidarPoint>& points) 
 std::vector<LidarPoint> ReadLidarPcd(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) Fail(file, "no such file");
-  const std::optional<PcdLayout> layout = ScanPcdHeader(file);
-  if (!layout) Fail(file, "not a PCD file (no complete header up to its DATA line)");
-  if (layout->data == "binary") {  // the exact size is known: check it before PCL reads
-    const std::uintmax_t expected = layout->data_offset + layout->points * layout->point_step;
-    const std::uintmax_t size = fs::file_size(file, ec);
-    if (ec || size < expected) {
+  const PcdHeader header = ReadPcdHeader(file);
+  const PointLayout layout = LayoutOf(header, file);
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) Fail(file, "cannot read its size");
+  const std::string announced = std::to_string(header.points) + " points of " +
+                                std::to_string(header.point_step) + " bytes";
+  if (header.data == PcdData::kBinary) {  // the exact size is known: check it before reading
+    const std::uint64_t expected = header.data_offset + header.points * header.point_step;
+    if (size < expected) {
       Fail(file, "truncated: " + std::to_string(size) + " bytes, the header announces " +
-                     std::to_string(layout->points) + " points of " +
-                     std::to_string(layout->point_step) + " bytes (" + std::to_string(expected) +
-                     " bytes)");
+                     announced + " (" + std::to_string(expected) + " bytes)");
     }
   }
-  if (layout->points == 0) return {};
-  pcl::PCDReader reader;
-  pcl::PCLPointCloud2 cloud;
-  if (reader.read(file.string(), cloud) != 0) Fail(file, "PCL cannot read it");
-  const std::size_t points = static_cast<std::size_t>(cloud.width) * cloud.height;
-
-  const auto x = OffsetOf(cloud, "x", PCLPointField::FLOAT32, file);
-  const auto y = OffsetOf(cloud, "y", PCLPointField::FLOAT32, file);
-  const auto z = OffsetOf(cloud, "z", PCLPointField::FLOAT32, file);
-  if (!x || !y || !z) Fail(file, "needs the fields x, y and z");
-  const auto intensity = OffsetOf(cloud, "intensity", PCLPointField::FLOAT32, file);
-  const auto t = OffsetOf(cloud, "t", PCLPointField::FLOAT32, file);
-  const auto ring = OffsetOf(cloud, "ring", PCLPointField::UINT16, file);
-
-  std::vector<LidarPoint> out(points);
-  if (cloud.data.size() < points * cloud.point_step) Fail(file, "fewer points than announced");
-  const std::uint8_t* data = cloud.data.data();
-  for (std::size_t i = 0; i < points; ++i, data += cloud.point_step) {
-    LidarPoint& p = out[i];
-    std::memcpy(&p.x, data + *x, sizeof(float));
-    std::memcpy(&p.y, data + *y, sizeof(float));
-    std::memcpy(&p.z, data + *z, sizeof(float));
-    if (intensity) std::memcpy(&p.intensity, data + *intensity, sizeof(float));
-    if (t) std::memcpy(&p.t, data + *t, sizeof(float));
-    if (ring) std::memcpy(&p.ring, data + *ring, sizeof(std::uint16_t));
+  if (header.points == 0) return {};
+  if (header.data == PcdData::kBinary) return ReadBinary(file, header, layout);
+  if (header.data == PcdData::kBinaryCompressed) {
+    // Two uint32 (compressed and uncompressed bytes) start the data; check both against the
+    // header and the file before PCL decompresses.
+    std::uint32_t sizes[2] = {0, 0};
+    std::ifstream in(file, std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(header.data_offset));
+    in.read(reinterpret_cast<char*>(sizes), sizeof(sizes));
+    if (!in) Fail(file, "truncated: no compressed data after its header");
+    if (sizes[1] != header.points * header.point_step) {
+      Fail(file, "its compressed data unpacks to " + std::to_string(sizes[1]) +
+                     " bytes, the header announces " + announced);
+    }
+    if (header.data_offset + sizeof(sizes) + sizes[0] > size) {
+      Fail(file, "truncated: " + std::to_string(sizes[0]) + " compressed bytes announced, " +
+                     std::to_string(size - header.data_offset - sizeof(sizes)) + " present");
+    }
   }
-  return out;
+  return ReadWithPcl(file, header, layout);
 }
 
 }  // namespace statebench::sensors
