@@ -3,17 +3,6 @@
 #include <algorithm>
 
 namespace statebench::app {
-namespace {
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5));
-  return v[i];
-}
-
-}  // namespace
-
 nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
   nlohmann::json sensors = nlohmann::json::object();
   for (const auto& [id, c] : d.sensors) {
@@ -28,17 +17,15 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                    {"events", c.events},
                    {"last_accepted_s", ToSeconds(c.last_accepted_ns)}};
   }
-  std::vector<double> times;
-  double iterations = 0.0;
-  std::size_t unusable = 0;
-  for (const auto& u : d.updates) {
-    times.push_back(u.solve_time_s * 1e3);
-    iterations += u.iterations;
-    unusable += u.usable ? 0 : 1;
+  const est::UpdateLog& u = d.updates;
+  nlohmann::json periods = nlohmann::json::array();
+  for (const est::UpdateLog::Period& p : u.Periods()) {
+    periods.push_back({{"start_s", p.start_s},
+                       {"count", p.count},
+                       {"solve_ms_median", p.median_ms},
+                       {"solve_ms_p99", p.p99_ms},
+                       {"solve_ms_max", p.max_ms}});
   }
-  double mean = 0.0;
-  for (const double t : times) mean += t;
-  if (!times.empty()) mean /= static_cast<double>(times.size());
   nlohmann::json lost = nlohmann::json::array();
   for (std::size_t k = 0; k < d.lost_at_ns.size(); ++k) {
     lost.push_back({{"at_s", ToSeconds(d.lost_at_ns[k])},
@@ -51,14 +38,16 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
           {"lost", lost},
           {"sensors", sensors},
           {"updates",
-           {{"count", d.updates.size()},
-            {"unusable", unusable},
-            {"mean_iterations", d.updates.empty() ? 0.0 : iterations / d.updates.size()},
-            {"solve_ms_mean", mean},
-            {"solve_ms_median", Percentile(times, 0.5)},
-            {"solve_ms_p95", Percentile(times, 0.95)},
-            {"solve_ms_p99", Percentile(times, 0.99)},
-            {"solve_ms_max", times.empty() ? 0.0 : *std::max_element(times.begin(), times.end())}}}};
+           {{"count", u.count()},
+            {"unusable", u.unusable()},
+            {"mean_iterations", u.mean_iterations()},
+            {"solve_ms_mean", u.solve_ms().mean()},
+            {"solve_ms_median", u.solve_ms().Median()},
+            {"solve_ms_p95", u.solve_ms().Quantile(0.95)},
+            {"solve_ms_p99", u.solve_ms().Quantile(0.99)},
+            {"solve_ms_max", u.solve_ms().max()},
+            {"with_factor", u.with_factor()},
+            {"per_minute", periods}}}};
 }
 
 

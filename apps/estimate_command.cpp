@@ -83,10 +83,17 @@ int RunEstimate(const std::vector<std::string>& argv) {
       truth_error = t.error;
     }
     const double end_s = truth.empty() ? 0.0 : ToSeconds(truth.back().t_ns);
+    const bool has_truth = !truth.empty();
 
     EstimatorFeed feed(setup.imu_id, log_frame);
     feed.Add(name, name, out_dir, est::MakeEstimator(name, setup, files),
              args->Flag("full-covariance"));
+    if (!truth.empty()) {
+      feed.ScoreAgainstTruth(setup.T_body_imu, {});
+      for (const TruthSample& s : truth) feed.AddTruth(s);
+      truth.clear();
+      truth.shrink_to_fit();
+    }
     FeedProgress progress("estimate " + log_dir.filename().string(), end_s, quiet);
     const auto next = [&reader] {
       const StageScope stage(Stage::kReading);
@@ -102,16 +109,13 @@ int RunEstimate(const std::vector<std::string>& argv) {
       }
     }
     progress.Finish();
-    const std::vector<reports::ReferenceState> reference =
-        truth.empty() ? std::vector<reports::ReferenceState>{}
-                      : reports::ReferenceFromTruth(truth, setup.T_body_imu);
-    EstimatorScore score = feed.Finish(reference, {}).front();
+    EstimatorScore score = feed.Finish().front();
     const FedEstimator& fed = feed.estimators().front();
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
     std::printf("%s: %zu estimates at IMU rate -> %s (wall %.1f s)\n",
-                fed.estimator->name().c_str(), fed.estimates.size(), out_dir.string().c_str(),
+                fed.estimator->name().c_str(), fed.estimates, out_dir.string().c_str(),
                 wall_s);
     // Where the CPU time went (log reading, estimator, writing, scoring), over the logged span.
     const double logged_s = first_ns ? ToSeconds(*last_ns - *first_ns) : 0.0;
@@ -120,7 +124,7 @@ int RunEstimate(const std::vector<std::string>& argv) {
                               {"wall_time_s", wall_s},
                               {"cpu", cpu.Json(feed.estimators(), logged_s)}};
     std::ofstream(out_dir / "profile.json") << profile.dump(2) << "\n";
-    if (!truth.empty()) {
+    if (has_truth) {
       nlohmann::json& j = score.metrics_json;
       j["estimator"] = fed.estimator->name();
       j["log"] = log_dir.string();

@@ -8,34 +8,6 @@
 #include "reports/metrics_json.hpp"
 
 namespace statebench::app {
-namespace {
-
-// RMSE and APE of the estimates inside each outage window (the paper's setup-3 figures).
-nlohmann::json DuringOutages(const std::vector<StateEstimate>& estimates,
-                             const std::vector<reports::ReferenceState>& reference,
-                             const std::vector<reports::OutageWindow>& windows,
-                             TimeNs skip_before_ns) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const reports::OutageWindow& w : windows) {
-    std::vector<StateEstimate> inside;
-    for (const StateEstimate& e : estimates) {
-      if (e.state.t_ns >= w.begin_ns && e.state.t_ns <= w.end_ns) inside.push_back(e);
-    }
-    reports::MetricsOptions options;
-    options.skip_before_ns = skip_before_ns;
-    const nlohmann::json m =
-        reports::ToJson(reports::ComputeTrajectoryMetrics(inside, reference, options));
-    out.push_back({{"begin_s", ToSeconds(w.begin_ns)},
-                   {"end_s", ToSeconds(w.end_ns)},
-                   {"compared", m["compared"]},
-                   {"rmse", m["rmse"]},
-                   {"ape", m["ape"]}});
-  }
-  return out;
-}
-
-}  // namespace
-
 void EstimatorFeed::Add(std::string label, std::string type, const std::filesystem::path& dir,
                         std::unique_ptr<est::Estimator> estimator, bool full_covariance) {
   std::filesystem::create_directories(dir);
@@ -48,11 +20,27 @@ void EstimatorFeed::Add(std::string label, std::string type, const std::filesyst
   estimators_.push_back(std::move(e));
 }
 
+void EstimatorFeed::ScoreAgainstTruth(const SE3& T_body_frame,
+                                      std::vector<reports::OutageWindow> outages) {
+  reports::RunScoringOptions options;
+  options.metrics.outages = outages;
+  outages_ = std::move(outages);
+  scorer_.emplace(estimators_.size(), T_body_frame, options);
+}
+
+void EstimatorFeed::AddTruth(const TruthSample& sample) {
+  if (!scorer_) return;
+  const StageScope stage(Stage::kScoring);
+  scorer_->AddTruth(sample);
+}
+
 std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
   const StageScope stage(Stage::kEstimators);
   const auto* imu = std::get_if<ImuSample>(&m);
   const bool output = imu != nullptr && imu->header.sensor_id == imu_id_;
-  for (FedEstimator& f : estimators_) {
+  epoch_.assign(estimators_.size(), std::nullopt);
+  for (std::size_t k = 0; k < estimators_.size(); ++k) {
+    FedEstimator& f = estimators_[k];
     const StageTimes before = CurrentStageTimes();
     f.estimator->Add(m);
     std::optional<StateEstimate> e;
@@ -64,19 +52,27 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
       const StageScope writing(Stage::kWriting);
       f.writer->Write(*e);
     }
-    f.estimates.push_back(*e);
+    ++f.estimates;
+    f.finite_estimates += e->state.p_world.allFinite() && e->state.v_world.allFinite() &&
+                          e->state.q_world_imu.coeffs().allFinite();
+    epoch_[k] = std::move(e);
   }
   if (!output) return std::nullopt;
   ++imu_stamps_;
+  if (scorer_) {
+    const StageScope scoring(Stage::kScoring);
+    scorer_->AddEpoch(imu->header.stamp_ns, epoch_);
+  }
   return imu->header.stamp_ns;
 }
 
-std::vector<EstimatorScore> EstimatorFeed::Finish(
-    const std::vector<reports::ReferenceState>& reference,
-    const std::vector<reports::OutageWindow>& outages) {
+std::vector<EstimatorScore> EstimatorFeed::Finish() {
   const StageScope stage(Stage::kScoring);
+  std::vector<reports::RunScore> run_scores;
+  if (scorer_) run_scores = scorer_->Finish();
   std::vector<EstimatorScore> scores;
-  for (FedEstimator& f : estimators_) {
+  for (std::size_t k = 0; k < estimators_.size(); ++k) {
+    FedEstimator& f = estimators_[k];
     EstimatorScore s;
     s.diagnostics = f.estimator->diagnostics();
     s.diagnostics_json = DiagnosticsJson(s.diagnostics);
@@ -85,28 +81,41 @@ std::vector<EstimatorScore> EstimatorFeed::Finish(
       f.writer->Close();
       std::ofstream(f.dir / "diagnostics.json") << s.diagnostics_json.dump(2) << "\n";
     }
-    if (!reference.empty()) {
-      reports::MetricsOptions options;
-      options.skip_before_ns = s.diagnostics.initialized_at_ns;
-      options.outages = outages;
-      s.metrics = reports::ComputeTrajectoryMetrics(f.estimates, reference, options);
-      s.metrics_json = reports::ToJson(s.metrics);
-      s.metrics_json["during_outages"] =
-          DuringOutages(f.estimates, reference, outages, s.diagnostics.initialized_at_ns);
-    }
     // What the estimator delivered: an estimate at how many of the IMU stamps it was offered,
-    // and how many of those were finite (before initialisation there is none).
-    std::size_t finite = 0;
-    for (const StateEstimate& e : f.estimates) {
-      finite += e.state.p_world.allFinite() && e.state.v_world.allFinite() &&
-                e.state.q_world_imu.coeffs().allFinite();
+    // and how many of those were finite (before initialisation there is none); inside the
+    // scored span too when there is a truth.
+    reports::Availability a;
+    if (scorer_) {
+      const reports::RunScore& r = run_scores[k];
+      s.metrics = r.metrics;
+      s.metrics_json = reports::ToJson(r.metrics);
+      nlohmann::json windows = nlohmann::json::array();
+      for (std::size_t w = 0; w < outages_.size(); ++w) {
+        const nlohmann::json m = reports::ToJson(r.during_outages[w]);
+        windows.push_back({{"begin_s", ToSeconds(outages_[w].begin_ns)},
+                           {"end_s", ToSeconds(outages_[w].end_ns)},
+                           {"compared", m["compared"]},
+                           {"rmse", m["rmse"]},
+                           {"ape", m["ape"]}});
+      }
+      s.metrics_json["during_outages"] = windows;
+      a = r.availability;
+    } else {
+      a.epochs = imu_stamps_;
+      a.estimates = f.estimates;
+      a.finite_estimates = f.finite_estimates;
     }
-    s.metrics_json["availability"] = {
-        {"imu_stamps", imu_stamps_},
-        {"estimates", f.estimates.size()},
-        {"finite_estimates", finite},
-        {"fraction", imu_stamps_ > 0 ? static_cast<double>(finite) / static_cast<double>(imu_stamps_)
-                                     : 0.0}};
+    nlohmann::json availability = {{"imu_stamps", a.epochs},
+                                   {"estimates", a.estimates},
+                                   {"finite_estimates", a.finite_estimates},
+                                   {"fraction", a.Fraction()}};
+    if (scorer_) {
+      availability["span_begin_s"] = ToSeconds(scorer_->span_begin_ns().value_or(0));
+      availability["span_imu_stamps"] = a.span_epochs;
+      availability["span_finite_estimates"] = a.span_finite_estimates;
+      availability["span_fraction"] = a.SpanFraction();
+    }
+    s.metrics_json["availability"] = availability;
     scores.push_back(std::move(s));
   }
   return scores;

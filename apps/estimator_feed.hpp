@@ -2,8 +2,9 @@
 // sweep): every measurement of a stream goes, in arrival order, to each estimator; after every
 // sample of the setup's IMU each estimator's real-time estimate is read, re-expressed in the
 // stream's ENU frame through its WGS84 position (estimators anchor their own frame where they
-// like), written and kept; at the end each one's diagnostics and metrics against the reference
-// are computed and written next to its estimate.
+// like), written, and scored against the truth as it goes (reports/run_scorer.hpp: one common
+// span for every estimator, memory that does not grow with the run); at the end each one's
+// diagnostics and metrics are written next to its estimate.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +20,7 @@
 #include "core/stage_profile.hpp"
 #include "estimator/estimator.hpp"
 #include "reports/estimate_writer.hpp"
+#include "reports/run_scorer.hpp"
 #include "reports/trajectory_metrics.hpp"
 
 namespace statebench::app {
@@ -29,7 +31,8 @@ struct FedEstimator {
   std::filesystem::path dir;
   std::unique_ptr<est::Estimator> estimator;
   std::unique_ptr<reports::EstimateWriter> writer;
-  std::vector<StateEstimate> estimates;
+  std::size_t estimates = 0;  // written
+  std::size_t finite_estimates = 0;
   StageTimes time;  // spent in its calls (its lidar odometry included; not writing)
 };
 
@@ -52,14 +55,19 @@ class EstimatorFeed {
   void Add(std::string label, std::string type, const std::filesystem::path& dir,
            std::unique_ptr<est::Estimator> estimator, bool full_covariance);
 
+  // Scores the estimators against the truth of the frame at T_body_frame (the IMU's mount), with
+  // the RMSE and APE inside each outage window besides. Call after the last Add and before the
+  // first Feed; without it there are no metrics but availability.
+  void ScoreAgainstTruth(const SE3& T_body_frame, std::vector<reports::OutageWindow> outages);
+  // A truth sample (stamps increasing; ahead of the measurements or behind them).
+  void AddTruth(const TruthSample& sample);
+
   // Hands m to every estimator; returns the stamp when m is a sample of the setup's IMU (an
   // output epoch).
   std::optional<TimeNs> Feed(const Measurement& m);
 
-  // Closes each writer and scores each estimator from its initialisation on against `reference`
-  // (metrics empty when there is none), with the RMSE and APE inside each outage window.
-  std::vector<EstimatorScore> Finish(const std::vector<reports::ReferenceState>& reference,
-                                     const std::vector<reports::OutageWindow>& outages);
+  // Closes each writer and finishes each estimator's score.
+  std::vector<EstimatorScore> Finish();
 
   std::vector<FedEstimator>& estimators() { return estimators_; }
 
@@ -67,6 +75,9 @@ class EstimatorFeed {
   std::string imu_id_;
   std::optional<LocalEnuFrame> frame_;
   std::vector<FedEstimator> estimators_;
+  std::optional<reports::RunScorer> scorer_;
+  std::vector<reports::OutageWindow> outages_;
+  std::vector<std::optional<StateEstimate>> epoch_;  // this epoch's estimates, reused
   std::size_t imu_stamps_ = 0;  // output stamps offered to every estimator
 };
 

@@ -14,18 +14,24 @@ double ResidentMegabytes() {
   return static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1e6;
 }
 
+double PeakResidentMegabytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1e3;  // ru_maxrss: kB
+}
+
 void MemoryTrace::At(TimeNs t_ns) {
   if (t_ns < next_ns_) return;
   rss_mb_.push_back(ResidentMegabytes());
+  peak_mb_.push_back(PeakResidentMegabytes());
   next_ns_ = t_ns + interval_ns_;
 }
 
 nlohmann::json MemoryTrace::Json() const {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
   return {{"interval_s", ToSeconds(interval_ns_)},
           {"rss_mb", rss_mb_},
-          {"peak_rss_mb", static_cast<double>(usage.ru_maxrss) / 1e3}};
+          {"peak_rss_mb_so_far", peak_mb_},
+          {"peak_rss_mb", PeakResidentMegabytes()}};
 }
 
 }  // namespace statebench::app

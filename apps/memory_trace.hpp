@@ -16,16 +16,20 @@ class MemoryTrace {
 
   // Call with the stamps of the run as it goes (cheap: reads /proc only once per interval).
   void At(TimeNs t_ns);
-  // {"interval_s", "rss_mb": [...], "peak_rss_mb"}
+  // {"interval_s", "rss_mb": [...], "peak_rss_mb_so_far": [...], "peak_rss_mb"}: the resident
+  // memory at each sample, the process's peak up to it, and the peak at the end.
   nlohmann::json Json() const;
 
  private:
   TimeNs interval_ns_;
   TimeNs next_ns_ = 0;
   std::vector<double> rss_mb_;
+  std::vector<double> peak_mb_;
 };
 
 // Resident set size of this process now, MB (0 when /proc is not readable).
 double ResidentMegabytes();
+// The peak resident set size of this process so far (getrusage), MB.
+double PeakResidentMegabytes();
 
 }  // namespace statebench::app

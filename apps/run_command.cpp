@@ -115,8 +115,8 @@ int RunRun(const std::vector<std::string>& argv) {
     sim::SensorRunOptions run_options;
     if (cache) run_options.cache = {cache.get(), BuildIdentity()};
     sim::SensorRun run(scenario, out_dir, run_options);
-    std::vector<TruthSample> truth;
-    run.SetTruthObserver([&truth](const TruthSample& s) { truth.push_back(s); });
+    feed.ScoreAgainstTruth(setup.T_body_imu, ScoredOutages(run.sensors(), run.truth().end_ns()));
+    run.SetTruthObserver([&feed](const TruthSample& s) { feed.AddTruth(s); });
     const double end_s = ToSeconds(run.truth().end_ns());
     FeedProgress progress("run " + scenario.name, end_s, quiet);
     MemoryTrace memory;
@@ -130,20 +130,13 @@ int RunRun(const std::vector<std::string>& argv) {
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
-    std::vector<reports::ReferenceState> reference;
-    std::vector<reports::OutageWindow> outages;
-    {
-      const StageScope stage(Stage::kScoring);
-      reference = reports::ReferenceFromTruth(truth, setup.T_body_imu);
-      outages = ScoredOutages(run.sensors(), run.truth().end_ns());
-    }
     const double distance_m = run.truth().summary().distance_m;
     std::printf("%s (seed %llu, %.0f s, %.0f m, wall %.1f s)\n", scenario.name.c_str(),
                 static_cast<unsigned long long>(scenario.seed), end_s, distance_m, wall_s);
     std::printf("%-16s %8s %8s %8s %9s %9s %8s %8s %9s\n", "estimator", "x [m]", "y [m]", "z [m]",
                 "yaw [rad]", "v_lon[m/s]", "APE [m]", "NEES(6)", "solve p99");
     nlohmann::json estimators = nlohmann::json::array();
-    const std::vector<EstimatorScore> scores = feed.Finish(reference, outages);
+    const std::vector<EstimatorScore> scores = feed.Finish();
     for (std::size_t i = 0; i < scores.size(); ++i) {
       const FedEstimator& r = feed.estimators()[i];
       EstimatorScore s = scores[i];

@@ -139,7 +139,7 @@ void EkfSingleTrackEstimator::Impl::UpdateGnss(const std::string& id, const Sens
   u.usable = true;
   u.num_states = 1;
   u.factors["gnss"] = 1;
-  diag.updates.push_back(u);
+  diag.updates.Add(u);
 }
 
 void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const SensorInfo& info,

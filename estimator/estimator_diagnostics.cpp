@@ -1,6 +1,7 @@
 #include "estimator/estimator_diagnostics.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace statebench::est {
 
@@ -49,6 +50,49 @@ std::uint64_t SensorCounters::TotalRejected() const {
   std::uint64_t n = 0;
   for (const auto& [reason, count] : rejected) n += count;
   return n;
+}
+
+void UpdateLog::Add(const UpdateDiagnostics& u) {
+  ++count_;
+  unusable_ += u.usable ? 0 : 1;
+  iterations_ += u.iterations;
+  const double ms = std::max(0.0, u.solve_time_s * 1e3);
+  solve_ms_.Add(ms);
+  for (const auto& [type, n] : u.factors) {
+    if (n > 0) ++with_factor_[type];
+  }
+  recent_.push_back(u);
+  if (recent_.size() > kRecent) recent_.pop_front();
+  if (!first_ns_) first_ns_ = u.t_ns;
+  // A stamp past the current period closes it; the next starts at the period holding the stamp
+  // (periods without updates are not listed).
+  const double since_s = ToSeconds(u.t_ns - *first_ns_);
+  if (since_s >= period_start_s_ + kPeriodS) {
+    closed_.push_back(CurrentPeriod());
+    period_ms_ = RunningStatistics();
+    period_start_s_ = std::floor(since_s / kPeriodS) * kPeriodS;
+  }
+  period_ms_.Add(ms);
+}
+
+double UpdateLog::mean_iterations() const {
+  return count_ ? iterations_ / static_cast<double>(count_) : 0.0;
+}
+
+UpdateLog::Period UpdateLog::CurrentPeriod() const {
+  Period p;
+  p.start_s = ToSeconds(first_ns_.value_or(0)) + period_start_s_;
+  p.count = period_ms_.count();
+  p.median_ms = period_ms_.Median();
+  p.p99_ms = period_ms_.Quantile(0.99);
+  p.max_ms = period_ms_.max();
+  return p;
+}
+
+std::vector<UpdateLog::Period> UpdateLog::Periods() const {
+  std::vector<Period> out = closed_;
+  if (first_ns_) out.push_back(CurrentPeriod());
+  return out;
 }
 
 }  // namespace statebench::est

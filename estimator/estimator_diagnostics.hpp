@@ -3,11 +3,14 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/running_statistics.hpp"
 #include "core/time.hpp"
 
 namespace statebench::est {
@@ -61,6 +64,49 @@ struct UpdateDiagnostics {
   std::map<std::string, int> factors;
 };
 
+// Every update counted and its solve time summarised, the most recent updates kept whole: the
+// diagnostics of an hour's run are the size of a minute's.
+class UpdateLog {
+ public:
+  static constexpr std::size_t kRecent = 1000;  // updates kept whole
+  static constexpr double kPeriodS = 60.0;      // solve-time summaries per period of stamps
+
+  // Solve time summary of one period of update stamps: [start_s, start_s + kPeriodS).
+  struct Period {
+    double start_s = 0.0;
+    std::uint64_t count = 0;
+    double median_ms = 0.0, p99_ms = 0.0, max_ms = 0.0;
+  };
+
+  void Add(const UpdateDiagnostics& u);
+
+  std::uint64_t count() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  std::uint64_t unusable() const { return unusable_; }
+  double mean_iterations() const;
+  // Solve times of every update, ms.
+  const RunningStatistics& solve_ms() const { return solve_ms_; }
+  // The last kRecent updates, oldest first.
+  const std::deque<UpdateDiagnostics>& recent() const { return recent_; }
+  // How many updates had at least one factor of each type.
+  const std::map<std::string, std::uint64_t>& with_factor() const { return with_factor_; }
+  // One summary per period of stamps since the first update, the current one included.
+  std::vector<Period> Periods() const;
+
+ private:
+  Period CurrentPeriod() const;
+
+  std::uint64_t count_ = 0, unusable_ = 0;
+  double iterations_ = 0.0;
+  RunningStatistics solve_ms_;
+  std::deque<UpdateDiagnostics> recent_;
+  std::map<std::string, std::uint64_t> with_factor_;
+  std::vector<Period> closed_;
+  std::optional<TimeNs> first_ns_;
+  RunningStatistics period_ms_;
+  double period_start_s_ = 0.0;
+};
+
 struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
@@ -71,7 +117,7 @@ struct EstimatorDiagnostics {
   std::vector<TimeNs> lost_at_ns;
   std::vector<std::string> reinitializations;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
-  std::vector<UpdateDiagnostics> updates;
+  UpdateLog updates;
 };
 
 }  // namespace statebench::est

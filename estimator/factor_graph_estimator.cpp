@@ -37,7 +37,8 @@ struct FactorGraphEstimator::Impl {
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
   TimeNs next_solve_ns = 0;
-  std::vector<NavState> smoothed;  // left the window, not taken yet
+  bool keep_smoothed = false;
+  std::vector<NavState> smoothed;  // left the window, not taken yet (when kept)
 
   // ---- 1. Intake: checks and reordering ------------------------------------------------------
 
@@ -164,11 +165,11 @@ struct FactorGraphEstimator::Impl {
     const NavState newest = ctx.smoother.NewestState();
     const Mat15 covariance = ctx.smoother.NewestCovariance();
     const auto stop = std::chrono::steady_clock::now();
-    ctx.diag.updates.push_back(SolveDiagnostics(
+    ctx.diag.updates.Add(SolveDiagnostics(
         summary, newest.t_ns, std::chrono::duration<double>(stop - start).count()));
 
     for (MeasurementFrontEnd* f : front_ends) f->OnMarginalized(left);
-    smoothed.insert(smoothed.end(), left.begin(), left.end());
+    if (keep_smoothed) smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&
         newest.v_world.allFinite() && covariance.allFinite()) {
       ctx.output.SetAnchor(PropagatedState{newest, covariance});
@@ -201,6 +202,8 @@ std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
 }
 
 EstimatorDiagnostics FactorGraphEstimator::diagnostics() const { return impl_->ctx.diag; }
+
+void FactorGraphEstimator::KeepSmoothedStates() { impl_->keep_smoothed = true; }
 
 std::vector<NavState> FactorGraphEstimator::TakeSmoothedStates() {
   std::vector<NavState> out;

@@ -48,8 +48,11 @@ class FactorGraphEstimator final : public Estimator {
   std::optional<StateEstimate> StateAt(TimeNs t_ns) const override;
   EstimatorDiagnostics diagnostics() const override;
 
-  // Smoothed states that left the window since the last call (their final estimates), oldest
-  // first.
+  // From now on, keep the smoothed states that leave the window (their final estimates) until
+  // TakeSmoothedStates takes them; off by default, so that a long run keeps nothing it is not
+  // asked for.
+  void KeepSmoothedStates();
+  // Smoothed states kept since the last call, oldest first.
   std::vector<NavState> TakeSmoothedStates();
   // The ENU origin; nullopt until known.
   std::optional<GeodeticPoint> origin() const;

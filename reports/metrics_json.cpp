@@ -23,6 +23,7 @@ nlohmann::json ToJson(const TrajectoryMetrics& m) {
   }
   return {{"compared", m.compared},
           {"skipped", m.skipped},
+          {"non_finite", m.non_finite},
           {"distance_m", m.distance_m},
           {"rmse",
            {{"x_m", m.rmse_x_m},

@@ -8,12 +8,16 @@
 // - APE as evo defines it, without alignment (GNSS-referenced runs): translation
 //   |p_est - p_ref| and rotation angle of R_ref^T R_est, with rmse/mean/median/std/max.
 // - RPE over a travelled distance delta: for pairs (i, j) with d_j - d_i >= delta (first such
-//   j), E = (T_ref_i^-1 T_ref_j)^-1 (T_est_i^-1 T_est_j); translation |t(E)|, rotation angle(E).
+//   j), E = (T_ref_i^-1 T_ref_j)^-1 (T_est_i^-1 T_est_j); translation |t(E)|, rotation angle(E);
+//   starts i every `rpe_start_step_m` of travelled distance (the first compared estimate, then
+//   the first one at least that far beyond the previous start).
 // - KITTI relative error: the same relative error over segments of 100, 200, ..., 800 m,
 //   starting every `kitti_start_step_m`; translation in % of the segment, rotation in deg/m,
 //   averaged over all segments.
 // - Outage drift: for each window [t0, t1], the position error at the last estimate <= t1, and
 //   that error divided by the reference distance travelled in the window.
+// - Medians of the APE and RPE within 0.05 % (core/running_statistics.hpp); every other figure
+//   exact. Estimates with a non-finite mean are not compared (counted in `non_finite`).
 // - NEES of the pose (6 dof): e = (Log(R_est^T R_ref), p_ref - p_est) against the estimate's
 //   [rotation, position] covariance block (right rotation perturbation, core/state.hpp).
 #pragma once
@@ -39,6 +43,15 @@ struct ReferenceState {
 // The truth of the frame at T_body_frame (e.g. the IMU mount), with its own travelled distance.
 std::vector<ReferenceState> ReferenceFromTruth(const std::vector<TruthSample>& truth,
                                                const SE3& T_body_frame);
+
+// The reference of the frame at one truth sample; `previous` (the reference at the sample
+// before, or nullptr for the first) gives the distance travelled.
+ReferenceState ReferenceAt(const TruthSample& sample, const SE3& T_body_frame,
+                           const ReferenceState* previous);
+
+// Between two reference states, a.t_ns <= t_ns <= b.t_ns: SE3 geodesic, velocity and distance
+// linear.
+ReferenceState Interpolate(const ReferenceState& a, const ReferenceState& b, TimeNs t_ns);
 
 struct ErrorStatistics {
   double rmse = 0.0;
@@ -67,6 +80,7 @@ struct OutageDrift {
 
 struct MetricsOptions {
   double rpe_delta_m = 10.0;
+  double rpe_start_step_m = 1.0;
   std::vector<double> kitti_lengths_m = {100, 200, 300, 400, 500, 600, 700, 800};
   double kitti_start_step_m = 10.0;
   std::vector<OutageWindow> outages;
@@ -76,6 +90,7 @@ struct MetricsOptions {
 struct TrajectoryMetrics {
   std::size_t compared = 0;
   std::size_t skipped = 0;  // outside the reference span, or before skip_before_ns
+  std::size_t non_finite = 0;  // estimates with a NaN or infinite mean, not compared
   double rmse_x_m = 0.0, rmse_y_m = 0.0, rmse_z_m = 0.0;
   double rmse_roll_rad = 0.0, rmse_pitch_rad = 0.0, rmse_yaw_rad = 0.0;
   double rmse_v_longitudinal_mps = 0.0, rmse_v_lateral_mps = 0.0;
@@ -92,6 +107,7 @@ struct TrajectoryMetrics {
   double distance_m = 0.0;      // reference distance over the compared span
 };
 
+// All estimates at once (stamps increasing); the same figures as feeding TrajectoryScorer.
 TrajectoryMetrics ComputeTrajectoryMetrics(const std::vector<StateEstimate>& estimates,
                                            const std::vector<ReferenceState>& reference,
                                            const MetricsOptions& options = {});

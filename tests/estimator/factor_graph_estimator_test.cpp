@@ -39,6 +39,7 @@ RunResult RunEstimator(const Scenario& sc, const std::vector<Measurement>& strea
                        const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
                        double eval_from_s, double eval_to_s = 1e9) {
   FactorGraphEstimator estimator(setup, options);
+  estimator.KeepSmoothedStates();
   RunResult r;
   for (const Measurement& m : stream) {
     estimator.Add(m);

@@ -93,7 +93,7 @@ Outcome RunWithLidar(const Scenario& sc, const std::vector<Measurement>& stream,
     }
   }
   out.diagnostics = estimator.diagnostics();
-  for (const UpdateDiagnostics& u : out.diagnostics.updates) {
+  for (const UpdateDiagnostics& u : out.diagnostics.updates.recent()) {
     const auto it = u.factors.find("relative_pose");
     if (it != u.factors.end() && it->second > 0) ++out.relative_pose_updates;
   }
@@ -122,7 +122,7 @@ TEST(FactorGraphLidar, LidarThatStopsSendingLeavesTheOtherSensorsRunning) {
   // Noise-free IMU and GNSS: the lidar factors agree with them, before and after it stops.
   EXPECT_LT(r.max_position_error, 0.02);
   // The IMU-rate output went on to the end of the stream.
-  EXPECT_GT(r.diagnostics.updates.back().t_ns, FromSeconds(15.0));
+  EXPECT_GT(r.diagnostics.updates.recent().back().t_ns, FromSeconds(15.0));
   // ... and so did GNSS and the IMU, which the diagnostics show beside the silent lidar.
   EXPECT_GT(r.diagnostics.sensors.at("gnss_front").last_accepted_ns, FromSeconds(15.5));
   EXPECT_GT(r.diagnostics.sensors.at("imu").last_accepted_ns, FromSeconds(15.9));
@@ -191,7 +191,7 @@ TEST(FactorGraphLidar, GarbageScansAreRejectedAndTheLidarResumes) {
       EXPECT_GE(lidar.TotalRejected(), 20u);
     }
     int lidar_updates_after = 0;
-    for (const UpdateDiagnostics& u : r.diagnostics.updates) {
+    for (const UpdateDiagnostics& u : r.diagnostics.updates.recent()) {
       const auto it = u.factors.find("relative_pose");
       if (u.t_ns > FromSeconds(11.0) && it != u.factors.end() && it->second > 0) {
         ++lidar_updates_after;

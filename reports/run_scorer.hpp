@@ -1,0 +1,96 @@
+// Scores every estimator of one run against the truth while the run goes, over one common span,
+// in memory that does not grow with the run's length.
+//
+// The span: from the latest first estimate of the run's estimators to the end of the truth. It
+// is decided once every estimator has given a finite estimate, or `span_wait_ns` after the first
+// output epoch, whichever comes first; an estimator that starts later than that is scored from
+// the span's start all the same, its missing epochs counted as unavailable. Until the span is
+// decided the paired epochs are held (pose, velocity and the 6x6 pose covariance, ~0.5 KB per
+// estimator and epoch; 2 minutes at most). So no estimator is scored over an easier stretch than
+// another, and what an estimator did not deliver is counted, not hidden.
+//
+// Truth comes at its own rate (AddTruth, stamps increasing, ahead of or behind the estimates);
+// an epoch is scored once the truth reaches its stamp, and the truth before it is dropped.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "core/state.hpp"
+#include "reports/reference_track.hpp"
+#include "reports/trajectory_scorer.hpp"
+
+namespace statebench::reports {
+
+struct RunScoringOptions {
+  MetricsOptions metrics;  // skip_before_ns is set by the span
+  TimeNs span_wait_ns = 120 * kNsPerSecond;
+};
+
+// What an estimator delivered at the output epochs (IMU stamps) it was offered.
+struct Availability {
+  std::size_t epochs = 0;             // output epochs offered (the whole run)
+  std::size_t estimates = 0;          // epochs with an estimate
+  std::size_t finite_estimates = 0;   // ... with a finite mean
+  std::size_t span_epochs = 0;        // epochs inside the scored span
+  std::size_t span_finite_estimates = 0;
+  double Fraction() const;            // finite_estimates / epochs
+  double SpanFraction() const;        // span_finite_estimates / span_epochs
+};
+
+struct RunScore {
+  TrajectoryMetrics metrics;
+  std::vector<TrajectoryMetrics> during_outages;  // one per metrics.outages window
+  Availability availability;
+};
+
+class RunScorer {
+ public:
+  RunScorer(std::size_t estimators, const SE3& T_body_frame, RunScoringOptions options);
+
+  void AddTruth(const TruthSample& sample);
+
+  // One output epoch: the estimate of each estimator (nullopt: none), in the order they were
+  // counted in the constructor.
+  void AddEpoch(TimeNs t_ns, const std::vector<std::optional<StateEstimate>>& estimates);
+
+  // Scores what is left (epochs beyond the truth are skipped) and returns one score per
+  // estimator.
+  std::vector<RunScore> Finish();
+
+  // The span's start once decided (the latest first estimate), nullopt before.
+  std::optional<TimeNs> span_begin_ns() const { return span_begin_ns_; }
+
+ private:
+  // What the scorers need of one estimate.
+  struct Compact {
+    NavState state;
+    Mat6 pose_covariance;
+  };
+  struct Epoch {
+    TimeNs t_ns = 0;
+    std::vector<std::optional<Compact>> estimates;
+  };
+  struct PerEstimator {
+    TrajectoryScorer scorer;
+    std::vector<TrajectoryScorer> outage_scorers;
+    Availability availability;
+    std::optional<TimeNs> first_finite_ns;
+  };
+
+  void Pair(const Epoch& epoch);  // the truth covers it
+  void Score(const Epoch& epoch, const std::optional<ReferenceState>& reference);
+  void DecideSpan(TimeNs now_ns, bool at_end);
+
+  RunScoringOptions options_;
+  ReferenceTrack track_;
+  std::vector<PerEstimator> estimators_;
+  std::deque<Epoch> waiting_for_truth_;
+  std::deque<std::pair<Epoch, std::optional<ReferenceState>>> before_span_;
+  std::optional<TimeNs> first_epoch_ns_;
+  std::optional<TimeNs> span_begin_ns_;
+};
+
+}  // namespace statebench::reports
