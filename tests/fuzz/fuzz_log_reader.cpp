@@ -48,8 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view content =
         input.substr(name_end + 1, (next == std::string_view::npos ? input.size() : next + 1) -
                                        (name_end + 1));
-    if (SafePath(name)) {
-      statebench::fuzz::WriteFile(dir / std::string(name), content);
+    if (SafePath(name) && statebench::fuzz::WriteFile(dir / std::string(name), content)) {
       ++files;
     }
     pos = next == std::string_view::npos ? next : next + 1;

@@ -32,10 +32,15 @@ inline const std::filesystem::path& ScratchDir() {
   return dir;
 }
 
-inline void WriteFile(const std::filesystem::path& path, std::string_view content) {
-  std::filesystem::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary).write(content.data(),
-                                              static_cast<std::streamsize>(content.size()));
+// Writes the file, creating its folders; false when the input's paths clash (a file where a
+// folder must go, "a/" as a file name): the harness skips such a file, it is not a finding.
+inline bool WriteFile(const std::filesystem::path& path, std::string_view content) {
+  std::error_code ec;
+  std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec || std::filesystem::is_directory(path, ec)) return false;
+  std::ofstream out(path, std::ios::binary);
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  return static_cast<bool>(out);
 }
 
 // An exception that is not the documented InputError is a finding: print it and abort, so
