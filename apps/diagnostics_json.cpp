@@ -27,10 +27,15 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                        {"solve_ms_max", p.max_ms}});
   }
   nlohmann::json lost = nlohmann::json::array();
-  for (std::size_t k = 0; k < d.lost_at_ns.size(); ++k) {
-    lost.push_back({{"at_s", ToSeconds(d.lost_at_ns[k])},
-                    {"reinitialization",
-                     k < d.reinitializations.size() ? d.reinitializations[k] : "pending"}});
+  for (const est::LostEpisode& e : d.lost) {
+    nlohmann::json j = {{"at_s", ToSeconds(e.at_ns)}, {"reason", e.reason}};
+    if (e.reinitialized_ns) {
+      j["reinitialized_at_s"] = ToSeconds(*e.reinitialized_ns);
+      j["reinitialization"] = e.reinitialization;
+    } else {
+      j["reinitialization"] = "pending";
+    }
+    lost.push_back(j);
   }
   return {{"initialized", d.initialized},
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},

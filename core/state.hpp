@@ -1,6 +1,8 @@
 // Navigation state of the IMU frame and its uncertainty, as every estimator outputs it.
 #pragma once
 
+#include <cstdint>
+
 #include "core/eigen_types.hpp"
 #include "core/time.hpp"
 
@@ -30,7 +32,31 @@ enum StateBlock : int {
   kAccelBiasIndex = 12,
 };
 
+// What an estimate rests on, so that a vehicle or a report can tell a sound estimate from a
+// guess (names as written in estimate.csv: EstimateStatusName).
+enum class EstimateStatus : std::uint8_t {
+  kGlobal,         // an absolute position (GNSS) accepted within the last few seconds
+  kDeadReckoning,  // no absolute position accepted for a while: IMU (and encoders, lidar) only
+  kRecovering,     // re-initialised after the estimator found itself lost, a few seconds ago
+  kLocal,          // the setup has no absolute position sensor: a local frame
+};
+
+inline const char* EstimateStatusName(EstimateStatus status) {
+  switch (status) {
+    case EstimateStatus::kGlobal:
+      return "global";
+    case EstimateStatus::kDeadReckoning:
+      return "dead_reckoning";
+    case EstimateStatus::kRecovering:
+      return "recovering";
+    case EstimateStatus::kLocal:
+      return "local";
+  }
+  return "unknown";
+}
+
 struct StateEstimate {
+  EstimateStatus status = EstimateStatus::kGlobal;
   NavState state;
   Mat15 covariance = Mat15::Identity();
   double latitude_deg = 0.0;  // WGS84 position of the IMU

@@ -55,6 +55,7 @@ struct EkfSingleTrackEstimator::Impl {
   static constexpr int kN = ekf::kN;
 
   EstimatorSensorSetup setup;
+  std::vector<std::string> position_sensors = setup.PositionSensorIds();
   EkfOptions options;
   Mat3 R_body_imu = Mat3::Identity();
   Vec3 p_body_imu = Vec3::Zero();

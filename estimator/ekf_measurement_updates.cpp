@@ -193,15 +193,7 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
   t_ns = fix.header.stamp_ns;
   initialized = true;
   initialized_ns = t_ns;
-  if (diag.initialized) {
-    char at[32];
-    std::snprintf(at, sizeof(at), "%.3f", ToSeconds(t_ns));
-    diag.reinitializations.push_back("moving (gnss course) at " + std::string(at) + " s");
-  } else {
-    diag.initialized = true;
-    diag.initialized_at_ns = t_ns;
-    diag.initialization = "moving (gnss course)";
-  }
+  diag.Initialized(t_ns, "moving (gnss course)");
   if (last_imu_ns) {
     Propagate(*last_imu_ns);
     PushHistory();
@@ -210,7 +202,7 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
 
 void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stamp_ns,
                                               const char* event) {
-  diag.lost_at_ns.push_back(stamp_ns);
+  diag.Lost(stamp_ns, event);
   ++diag.sensors[id].events[event];
   initialized = false;
   first_fix.reset();

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "estimator/ekf_filter_impl.hpp"
+#include "estimator/estimate_status.hpp"
 #include "estimator/ekf_output_mapping.hpp"
 #include "estimator/measurement_checks.hpp"
 
@@ -242,6 +243,7 @@ std::optional<StateEstimate> EkfSingleTrackEstimator::Impl::StateAt(TimeNs t_out
   StateEstimate out = EkfOutput(
       *it, t_out_ns, {*model, options, R_body_imu, p_body_imu, frame ? &*frame : nullptr});
   if (!out.state.p_world.allFinite() || !out.covariance.allFinite()) return std::nullopt;
+  out.status = StatusAt(diag, position_sensors, t_out_ns);
   return out;
 }
 

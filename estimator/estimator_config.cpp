@@ -116,6 +116,12 @@ const DualAntennaPair* EstimatorSensorSetup::FindHeading(const std::string& head
   return nullptr;
 }
 
+std::vector<std::string> EstimatorSensorSetup::PositionSensorIds() const {
+  std::vector<std::string> ids;
+  for (const GnssAntenna& a : antennas) ids.push_back(a.id);
+  return ids;
+}
+
 double EstimatorSensorSetup::MaxMeasurementLatency() const {
   double latency = 0.0;
   for (const auto& s : sensors) {

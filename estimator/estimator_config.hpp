@@ -78,6 +78,8 @@ struct EstimatorSensorSetup {
   const DualAntennaPair* FindHeading(const std::string& heading_id) const;
   // Largest latency of the sensors the estimator uses (GNSS antennas and headings).
   double MaxMeasurementLatency() const;
+  // The ids of the sensors that give an absolute position (the GNSS antennas).
+  std::vector<std::string> PositionSensorIds() const;
 };
 
 // InputError naming file:line:column and field on: unknown sensor type, missing or duplicate id,

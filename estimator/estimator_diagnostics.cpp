@@ -52,6 +52,25 @@ std::uint64_t SensorCounters::TotalRejected() const {
   return n;
 }
 
+void EstimatorDiagnostics::Initialized(TimeNs t_ns, const std::string& method) {
+  if (!initialized) {
+    initialized = true;
+    initialized_at_ns = t_ns;
+    initialization = method;
+  } else if (!lost.empty() && !lost.back().reinitialized_ns) {
+    lost.back().reinitialized_ns = t_ns;
+    lost.back().reinitialization = method;
+  }
+}
+
+std::optional<TimeNs> EstimatorDiagnostics::LatestInitializationNs() const {
+  if (!initialized) return std::nullopt;
+  for (auto it = lost.rbegin(); it != lost.rend(); ++it) {
+    if (it->reinitialized_ns) return it->reinitialized_ns;
+  }
+  return initialized_at_ns;
+}
+
 void UpdateLog::Add(const UpdateDiagnostics& u) {
   ++count_;
   unusable_ += u.usable ? 0 : 1;

@@ -107,17 +107,31 @@ class UpdateLog {
   double period_start_s_ = 0.0;
 };
 
+// One time the estimator found itself lost and started over from the sensors.
+struct LostEpisode {
+  TimeNs at_ns = 0;
+  std::string reason;                      // "lost" (the GNSS track) or "imu_gap"
+  std::optional<TimeNs> reinitialized_ns;  // nullopt while it re-initialises
+  std::string reinitialization;            // how, e.g. "moving (gnss course)"
+};
+
 struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
   std::string initialization;  // how: "static", "moving (dual antenna)", "moving (gnss course)"
-  // Times the estimator found itself lost and started over from the sensors (e.g. every GNSS
-  // fix gated out for longer than gate_reset_s while the fixes agreed with each other), and how
-  // it re-initialised each time.
-  std::vector<TimeNs> lost_at_ns;
-  std::vector<std::string> reinitializations;
+  // Times the estimator found itself lost and started over from the sensors (every GNSS fix
+  // gated out for longer than gate_reset_s while the fixes agreed with each other, or an IMU
+  // gap), and how it re-initialised each time.
+  std::vector<LostEpisode> lost;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   UpdateLog updates;
+
+  // Records an initialisation at t_ns: the first one, or the end of the open lost episode.
+  void Initialized(TimeNs t_ns, const std::string& method);
+  // Opens a lost episode.
+  void Lost(TimeNs t_ns, const std::string& reason) { lost.push_back({t_ns, reason, {}, {}}); }
+  // The stamp of the newest (re-)initialisation, nullopt before the first.
+  std::optional<TimeNs> LatestInitializationNs() const;
 };
 
 }  // namespace statebench::est

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "estimator/estimate_status.hpp"
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end_set.hpp"
 #include "estimator/measurement_intake.hpp"
@@ -28,6 +29,7 @@ struct FactorGraphEstimator::Impl {
   }
 
   EstimatorSensorSetup setup;  // the estimator's own copy: the plan and front ends point into it
+  std::vector<std::string> position_sensors = setup.PositionSensorIds();
   FactorGraphOptions options;
   FactorPlan plan;
   FrontEndContext ctx;
@@ -50,7 +52,7 @@ struct FactorGraphEstimator::Impl {
       // A pause of the IMU stream no integration can bridge: start over from the sensors.
       if (ctx.initialized && previous_imu_ns != INT64_MIN &&
           ctx.newest_imu_ns - previous_imu_ns > FromSeconds(options.imu_limits.max_gap_s)) {
-        ctx.diag.lost_at_ns.push_back(ctx.newest_imu_ns);
+        ctx.diag.Lost(ctx.newest_imu_ns, "imu_gap");
         ctx.Count(HeaderOf(m).sensor_id, "imu_gap");
         for (const Measurement& old : intake.DropBefore(ctx.newest_imu_ns)) {
           ctx.Count(HeaderOf(old).sensor_id, "dropped_at_restart");
@@ -142,15 +144,7 @@ struct FactorGraphEstimator::Impl {
       return;  // covariance not positive definite: same
     }
     ctx.initialized = true;
-    if (!ctx.diag.initialized) {
-      ctx.diag.initialized = true;
-      ctx.diag.initialized_at_ns = x.t_ns;
-      ctx.diag.initialization = init->method;
-    } else {  // after being lost
-      char at[32];
-      std::snprintf(at, sizeof(at), " at %.2f s", ToSeconds(x.t_ns));
-      ctx.diag.reinitializations.push_back(init->method + at);
-    }
+    ctx.diag.Initialized(x.t_ns, init->method);
     ctx.output.SetAnchor(PropagatedState{x, init->covariance});
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
     for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);
@@ -198,7 +192,9 @@ std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   const std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
   const std::optional<LocalEnuFrame>& frame = impl_->front_end_set.gnss->frame();
   if (!p || !frame) return std::nullopt;
-  return ToStateEstimate(*p, *frame);
+  std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
+  if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
+  return out;
 }
 
 EstimatorDiagnostics FactorGraphEstimator::diagnostics() const { return impl_->ctx.diag; }

@@ -103,7 +103,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     // estimate is lost; the estimator starts over from the sensors (this fix included).
     if (outside && refused_.Agrees()) {
       ctx_.lost = true;
-      ctx_.diag.lost_at_ns.push_back(fix.header.stamp_ns);
+      ctx_.diag.Lost(fix.header.stamp_ns, "lost");
       ctx_.Count(id, "lost");
       ctx_.Reject(id, RejectReason::kMahalanobisGate);
       return;

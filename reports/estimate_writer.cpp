@@ -12,7 +12,7 @@ constexpr const char* kBlocks[] = {"rot", "pos", "vel", "bg", "ba"};
 std::string Header(bool full) {
   std::string h =
       "t_ns,p_x,p_y,p_z,q_w,q_x,q_y,q_z,v_x,v_y,v_z,bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,"
-      "latitude_deg,longitude_deg,altitude_m";
+      "latitude_deg,longitude_deg,altitude_m,status";
   for (const char* b : kBlocks) {
     for (const char* a : {"x", "y", "z"}) h += std::string(",var_") + b + "_" + a;
   }
@@ -66,6 +66,8 @@ void EstimateWriter::Write(const StateEstimate& e) {
   add(e.latitude_deg);
   add(e.longitude_deg);
   add(e.altitude_m);
+  o.push_back(',');
+  o += EstimateStatusName(e.status);
   for (int i = 0; i < 15; ++i) add(e.covariance(i, i));
   if (full_covariance_) {
     for (int r = 0; r < 15; ++r) {

@@ -4,6 +4,8 @@
 // follows the fixes again; a short jump of the fixes is ridden out without starting over.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "core/geodetic.hpp"
@@ -41,6 +43,7 @@ struct Outcome {
   int non_finite = 0;
   int missing_after_init = 0;        // IMU samples without an estimate once first initialised
   double final_error_m = 0.0;        // max over the last 5 s, against truth + final offset
+  std::map<EstimateStatus, std::pair<double, double>> status_seen;  // first and last time, s
 };
 
 Outcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, const Vec3& final_offset) {
@@ -59,6 +62,9 @@ Outcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, const V
       continue;
     }
     if (!e->state.p_world.allFinite() || !e->covariance.allFinite()) ++out.non_finite;
+    const auto [it, first] =
+        out.status_seen.try_emplace(e->status, ToSeconds(t), ToSeconds(t));
+    if (!first) it->second.second = ToSeconds(t);
     if (ToSeconds(t) > end_s - 5.0) {
       const Vec3 expected = sc.Truth(t).p_world + final_offset;
       out.final_error_m = std::max(out.final_error_m, (e->state.p_world - expected).norm());
@@ -82,22 +88,35 @@ TEST(FactorGraphLost, FixesThatJumpForGoodMakeItStartOverAndFollowThem) {
   const Scenario sc = MakeScenario(Drive());
   const Vec3 offset(60.0, -25.0, 0.0);
   const Outcome o = Feed(sc, ShiftedFixes(sc, offset, 35.0, 1e9), offset);
-  ASSERT_EQ(o.diagnostics.lost_at_ns.size(), 1u);
+  ASSERT_EQ(o.diagnostics.lost.size(), 1u);
   // Lost once the gate has refused the fixes for gate_reset_s (10 s) after the jump.
-  EXPECT_GE(ToSeconds(o.diagnostics.lost_at_ns[0]), 44.9);
-  EXPECT_LT(ToSeconds(o.diagnostics.lost_at_ns[0]), 47.0);
-  ASSERT_EQ(o.diagnostics.reinitializations.size(), 1u);
-  EXPECT_EQ(o.diagnostics.reinitializations[0].rfind("moving (gnss course) at ", 0), 0u);
+  EXPECT_GE(ToSeconds(o.diagnostics.lost[0].at_ns), 44.9);
+  EXPECT_LT(ToSeconds(o.diagnostics.lost[0].at_ns), 47.0);
+  ASSERT_TRUE(o.diagnostics.lost[0].reinitialized_ns.has_value());
+  EXPECT_GT(*o.diagnostics.lost[0].reinitialized_ns, o.diagnostics.lost[0].at_ns);
+  EXPECT_EQ(o.diagnostics.lost[0].reinitialization, "moving (gnss course)");
   EXPECT_EQ(o.diagnostics.sensors.at("gnss_front").events.at("lost"), 1u);
   EXPECT_GT(o.missing_after_init, 0);  // no estimate while re-initialising
   EXPECT_EQ(o.non_finite, 0);
   EXPECT_LT(o.final_error_m, 0.5);  // on the fixes' track again
+  // The output status: dead reckoning from 5 s after the gate began refusing the fixes until
+  // the estimator gave up; recovering for 10 s after it re-initialised; global again after.
+  const double reinit_s = ToSeconds(*o.diagnostics.lost[0].reinitialized_ns);
+  ASSERT_TRUE(o.status_seen.count(EstimateStatus::kDeadReckoning));
+  EXPECT_NEAR(o.status_seen.at(EstimateStatus::kDeadReckoning).first, 40.0, 0.2);
+  // (the fix that makes it give up is stamped lost[0].at_ns and arrives ~0.15 s later)
+  EXPECT_LE(o.status_seen.at(EstimateStatus::kDeadReckoning).second,
+            ToSeconds(o.diagnostics.lost[0].at_ns) + 0.2);
+  ASSERT_TRUE(o.status_seen.count(EstimateStatus::kRecovering));
+  EXPECT_NEAR(o.status_seen.at(EstimateStatus::kRecovering).first, reinit_s, 0.2);
+  EXPECT_NEAR(o.status_seen.at(EstimateStatus::kRecovering).second, reinit_s + 10.0, 0.02);
+  EXPECT_NEAR(o.status_seen.at(EstimateStatus::kGlobal).second, 70.0, 0.02);
 }
 
 TEST(FactorGraphLost, AShortJumpIsRiddenOutWithoutStartingOver) {
   const Scenario sc = MakeScenario(Drive());
   const Outcome o = Feed(sc, ShiftedFixes(sc, Vec3(100.0, 0.0, 0.0), 35.0, 40.0), Vec3::Zero());
-  EXPECT_TRUE(o.diagnostics.lost_at_ns.empty());
+  EXPECT_TRUE(o.diagnostics.lost.empty());
   EXPECT_EQ(o.missing_after_init, 0);
   EXPECT_EQ(o.non_finite, 0);
   EXPECT_LT(o.final_error_m, 0.5);
@@ -121,7 +140,7 @@ TEST(FactorGraphLost, FixesThatDisagreeWithEachOtherDoNotMakeItStartOver) {
     f->longitude_deg = p.longitude_deg;
   }
   const Outcome o = Feed(sc, stream, Vec3::Zero());
-  EXPECT_TRUE(o.diagnostics.lost_at_ns.empty());
+  EXPECT_TRUE(o.diagnostics.lost.empty());
   EXPECT_EQ(o.non_finite, 0);
 }
 

@@ -98,7 +98,7 @@ Outcome Feed(Estimator* estimator, const std::vector<MeasurementFault>& faults) 
     out.errors.emplace_back(ToSeconds(t), (p - truth).head<2>().norm());
   }
   out.diagnostics = estimator->diagnostics();
-  out.lost = !out.diagnostics.lost_at_ns.empty();
+  out.lost = !out.diagnostics.lost.empty();
   return out;
 }
 
