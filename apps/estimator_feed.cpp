@@ -1,5 +1,6 @@
 #include "apps/estimator_feed.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -9,13 +10,15 @@
 
 namespace statebench::app {
 void EstimatorFeed::Add(std::string label, std::string type, const std::filesystem::path& dir,
-                        std::unique_ptr<est::Estimator> estimator, bool full_covariance) {
+                        std::unique_ptr<est::Estimator> estimator, bool full_covariance,
+                        std::vector<std::string> inputs) {
   std::filesystem::create_directories(dir);
   FedEstimator e;
   e.label = std::move(label);
   e.type = std::move(type);
   e.dir = dir;
   e.estimator = std::move(estimator);
+  e.inputs = std::move(inputs);
   e.writer = std::make_unique<reports::EstimateWriter>(dir, full_covariance);
   estimators_.push_back(std::move(e));
 }
@@ -42,12 +45,12 @@ void EstimatorFeed::WriteDetails(const std::filesystem::path& run_dir) {
         });
   }
   if (scorer_) {
-    scorer_->SetEpochObserver([details](const reports::ReferenceState& reference,
-                                        const std::vector<std::optional<reports::EpochErrors>>&
-                                            errors) {
-      const StageScope writing(Stage::kWriting);
-      details->Epoch(reference, errors);
-    });
+    scorer_->SetEpochObserver(
+        [details](const reports::ReferenceState& reference,
+                  const std::vector<std::optional<reports::EpochErrors>>& errors) {
+          const StageScope writing(Stage::kWriting);
+          details->Epoch(reference, errors);
+        });
   }
 }
 
@@ -69,12 +72,16 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     FedEstimator& f = estimators_[k];
     const StageTimes before = CurrentStageTimes();
-    f.estimator->Add(m);
+    if (f.inputs.empty() ||
+        std::find(f.inputs.begin(), f.inputs.end(), HeaderOf(m).sensor_id) != f.inputs.end()) {
+      f.estimator->Add(m);
+    }
     std::optional<StateEstimate> e;
     if (output) e = f.estimator->StateAt(imu->header.stamp_ns);
     f.time += CurrentStageTimes() - before;
     if (!e) continue;
-    if (frame_) e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+    if (frame_)
+      e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
     {
       const StageScope writing(Stage::kWriting);
       f.writer->Write(*e);

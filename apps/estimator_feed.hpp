@@ -32,7 +32,8 @@ struct FedEstimator {
   std::filesystem::path dir;
   std::unique_ptr<est::Estimator> estimator;
   std::unique_ptr<reports::EstimateWriter> writer;
-  std::size_t estimates = 0;  // written
+  std::vector<std::string> inputs;  // the sensors it is given; empty: every one
+  std::size_t estimates = 0;        // written
   std::size_t finite_estimates = 0;
   StageTimes time;  // spent in its calls (its lidar odometry included; not writing)
 };
@@ -52,9 +53,11 @@ class EstimatorFeed {
   EstimatorFeed(std::string imu_id, std::optional<LocalEnuFrame> frame)
       : imu_id_(std::move(imu_id)), frame_(std::move(frame)) {}
 
-  // An estimator writing into dir (created) at IMU rate.
+  // An estimator writing into dir (created) at IMU rate, given the measurements of `inputs`
+  // only (sensor ids; empty: all).
   void Add(std::string label, std::string type, const std::filesystem::path& dir,
-           std::unique_ptr<est::Estimator> estimator, bool full_covariance);
+           std::unique_ptr<est::Estimator> estimator, bool full_covariance,
+           std::vector<std::string> inputs = {});
 
   // Scores the estimators against the truth of the frame at T_body_frame (the IMU's mount), with
   // the RMSE and APE inside each outage window besides. Call after the last Add and before the
@@ -84,7 +87,7 @@ class EstimatorFeed {
   std::unique_ptr<RunDetailsWriter> details_;
   std::vector<reports::OutageWindow> outages_;
   std::vector<std::optional<StateEstimate>> epoch_;  // this epoch's estimates, reused
-  std::size_t imu_stamps_ = 0;  // output stamps offered to every estimator
+  std::size_t imu_stamps_ = 0;                       // output stamps offered to every estimator
 };
 
 // Writes score.metrics_json to dir/metrics.json.

@@ -17,12 +17,12 @@
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
-#include "apps/estimator_feed.hpp"
 #include "apps/cpu_profile.hpp"
+#include "apps/estimator_feed.hpp"
 #include "apps/memory_trace.hpp"
-#include "apps/scored_outages.hpp"
 #include "apps/scenario_estimators.hpp"
 #include "apps/scenario_overrides.hpp"
+#include "apps/scored_outages.hpp"
 #include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
@@ -67,14 +67,14 @@ nlohmann::json FaultsJson(const MeasurementFaultInjector& injector) {
 }  // namespace
 
 int RunRun(const std::vector<std::string>& argv) {
-  const auto parsed = ParseCommand({"run",
-                                    kUsage,
-                                    {"quiet", "full-covariance"},
-                                    {"out", "estimators", "seed", "duration", "cache",
-                                     "cache-limit-gb"},
-                                    1,
-                                    {"out"}},
-                                   argv);
+  const auto parsed =
+      ParseCommand({"run",
+                    kUsage,
+                    {"quiet", "full-covariance"},
+                    {"out", "estimators", "seed", "duration", "cache", "cache-limit-gb"},
+                    1,
+                    {"out"}},
+                   argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
   const fs::path out_dir = *args->Option("out");
@@ -104,7 +104,7 @@ int RunRun(const std::vector<std::string>& argv) {
     for (const sim::EstimatorSpec& spec : specs) {
       const fs::path dir = out_dir / spec.label;
       feed.Add(spec.label, spec.type, dir, MakeScenarioEstimator(spec, scenario, setup, dir),
-               args->Flag("full-covariance"));
+               args->Flag("full-covariance"), spec.inputs);
     }
 
     if (!quiet) {
@@ -148,10 +148,12 @@ int RunRun(const std::vector<std::string>& argv) {
       j["seed"] = scenario.seed;
       j["solve_ms_p99"] = s.diagnostics_json["updates"]["solve_ms_p99"];
       WriteMetrics(r.dir, s);
-      estimators.push_back({{"label", r.label},
-                            {"type", r.type},
-                            {"config", (fs::path(r.label) / "estimator_config.yaml").string()},
-                            {"metrics", j}});
+      estimators.push_back(
+          {{"label", r.label},
+           {"type", r.type},
+           {"inputs", r.inputs.empty() ? nlohmann::json("all") : nlohmann::json(r.inputs)},
+           {"config", (fs::path(r.label) / "estimator_config.yaml").string()},
+           {"metrics", j}});
       const reports::TrajectoryMetrics& metrics = s.metrics;
       std::printf("%-16s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.label.c_str(),
                   metrics.rmse_x_m, metrics.rmse_y_m, metrics.rmse_z_m, metrics.rmse_yaw_rad,
@@ -159,13 +161,13 @@ int RunRun(const std::vector<std::string>& argv) {
                   metrics.mean_pose_nees, j["solve_ms_p99"].get<double>());
     }
     nlohmann::json summary = {{"scenario", scenario.name},
-                                    {"file", scenario.file.string()},
-                                    {"seed", scenario.seed},
-                                    {"simulated_s", end_s},
-                                    {"distance_m", distance_m},
-                                    {"wall_time_s", wall_s},
-                                    {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
-                                    {"estimators", estimators}};
+                              {"file", scenario.file.string()},
+                              {"seed", scenario.seed},
+                              {"simulated_s", end_s},
+                              {"distance_m", distance_m},
+                              {"wall_time_s", wall_s},
+                              {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
+                              {"estimators", estimators}};
     summary["faults"] = FaultsJson(run.faults());
     summary["memory"] = memory.Json();
     summary["cpu"] = cpu.Json(feed.estimators(), end_s);

@@ -52,6 +52,16 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
                                                       const sim::Scenario& scenario,
                                                       const est::EstimatorSensorSetup& setup,
                                                       const fs::path& dir) {
+  // The estimator's own view of the setup: only its inputs.
+  est::EstimatorSensorSetup own = setup;
+  if (!spec.inputs.empty()) {
+    try {
+      own = est::RestrictToSensors(setup, spec.inputs);
+    } catch (const InputError& e) {
+      throw InputError(spec.source.where + ": field '" + spec.source.field +
+                       ".inputs': " + e.what());
+    }
+  }
   fs::create_directories(dir);
   const fs::path config = dir / "estimator_config.yaml";
   std::ofstream(config) << sim::EstimatorConfigText(spec, scenario);
@@ -59,7 +69,7 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
   files.options = config;
   files.vehicle = scenario.vehicle_file;
   try {
-    return est::MakeEstimator(spec.type, setup, files);
+    return est::MakeEstimator(spec.type, own, files);
   } catch (const InputError& e) {
     const std::string from = spec.config.empty() ? "built-in defaults" : spec.config.string();
     throw InputError(std::string(e.what()) + "\n  in the options of estimator '" + spec.label +

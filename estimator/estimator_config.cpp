@@ -135,6 +135,41 @@ double FactorGraphOptions::ReorderLatency(const EstimatorSensorSetup& setup) con
   return reorder_latency_s.value_or(setup.MaxMeasurementLatency() + kReorderMarginS);
 }
 
+EstimatorSensorSetup RestrictToSensors(const EstimatorSensorSetup& setup,
+                                       const std::vector<std::string>& ids) {
+  const auto kept = [&ids](const std::string& id) {
+    return std::find(ids.begin(), ids.end(), id) != ids.end();
+  };
+  for (const std::string& id : ids) {
+    if (setup.Find(id) == nullptr && setup.FindHeading(id) == nullptr) {
+      std::string known;
+      for (const EstimatorSensor& s : setup.sensors) known += (known.empty() ? "" : ", ") + s.id;
+      throw InputError("input '" + id + "' is not a sensor of the setup " + setup.source +
+                       " (sensors: " + known + ")");
+    }
+  }
+  if (!kept(setup.imu_id)) {
+    throw InputError("the inputs must include the IMU '" + setup.imu_id + "' (setup " +
+                     setup.source + ")");
+  }
+  EstimatorSensorSetup out = setup;
+  out.sensors.clear();
+  for (const EstimatorSensor& s : setup.sensors) {
+    if (kept(s.id)) out.sensors.push_back(s);
+  }
+  out.antennas.clear();
+  for (const GnssAntenna& a : setup.antennas) {
+    if (kept(a.id)) out.antennas.push_back(a);
+  }
+  out.dual_antennas.clear();
+  for (const DualAntennaPair& p : setup.dual_antennas) {
+    const bool heading_kept =
+        p.heading_id.empty() ? kept(p.main) && kept(p.aux) : kept(p.heading_id);
+    if (heading_kept) out.dual_antennas.push_back(p);
+  }
+  return out;
+}
+
 EstimatorSensorSetup LoadEstimatorSensorSetup(const std::filesystem::path& path) {
   return ParseEstimatorSensorSetup(YamlNode::LoadFile(path));
 }

@@ -82,6 +82,13 @@ struct EstimatorSensorSetup {
   std::vector<std::string> PositionSensorIds() const;
 };
 
+// The setup with only the sensors `ids` (the inputs an estimator is given; e.g. the paper's setup-2
+// factor graph: IMU, front antenna and lidar): antennas, dual-antenna pairs (both antennas kept)
+// and sensors of other ids are left out. Throws InputError when an id is not in the setup or the
+// IMU is not among them.
+EstimatorSensorSetup RestrictToSensors(const EstimatorSensorSetup& setup,
+                                       const std::vector<std::string>& ids);
+
 // InputError naming file:line:column and field on: unknown sensor type, missing or duplicate id,
 // no IMU or more than one, bad transform, unknown key in an `estimator:` block, a dual-antenna
 // entry naming a sensor that is not a GNSS antenna.
@@ -101,7 +108,7 @@ struct InitializationOptions {
   // GNSS fixes since the IMU began to look still bound the horizontal speed (least-squares
   // speed + 3 sigma) below this. Noisy fixes need a longer wait (CEP 2 m at 10 Hz: ~15 s).
   double static_max_speed_mps = 0.1;
-  double course_min_distance_m = 5.0;       // GNSS displacement that defines the course
+  double course_min_distance_m = 5.0;  // GNSS displacement that defines the course
   // Prior sigmas of the first state where no measurement gives them.
   double roll_pitch_sigma_rad = 0.02;  // static alignment (accel bias / g ~ 0.01 rad)
   double moving_roll_pitch_sigma_rad = 0.05;

@@ -55,6 +55,12 @@ TableSection BuildSection(const ScenarioRun& run) {
     for (const nlohmann::json& e : j.at("estimators")) {
       section.labels.push_back(e.at("label").get<std::string>());
       section.types.push_back(e.at("type").get<std::string>());
+      std::string inputs = "all sensors";
+      if (const auto it = e.find("inputs"); it != e.end() && it->is_array()) {
+        inputs.clear();
+        for (const auto& id : *it) inputs += (inputs.empty() ? "" : ", ") + id.get<std::string>();
+      }
+      section.inputs.push_back(inputs);
       metrics.push_back(&e.at("metrics"));
     }
   }
@@ -89,6 +95,8 @@ const std::vector<TableMetric>& TableMetrics() {
       {"rmse_v_lon", "RMSE longitudinal velocity [m/s]", "/rmse/v_longitudinal_mps", 3},
       {"ape", "APE translation RMSE [m]", "/ape/translation_m/rmse", 3},
       {"nees", "pose NEES, mean (6 dof: ideal 6)", "/nees/pose_6dof_mean", 2},
+      {"availability", "availability in the scored span", "/availability/span_fraction", 4, false,
+       "/availability/span_imu_stamps"},
       {"outage_rmse_x", "GNSS outage: RMSE X [m]", "/during_outages/0/rmse/x_m", 3, false,
        kOutageCount},
       {"outage_rmse_y", "GNSS outage: RMSE Y [m]", "/during_outages/0/rmse/y_m", 3, false,
@@ -152,7 +160,11 @@ std::string ToMarkdown(const PaperTable& table) {
     } else {
       md += Format(s.simulated_s, 0) + " s simulated, " + Format(s.distance_m, 0) +
             " m driven, wall time " + Format(s.wall_time_s, 1) + " s (" +
-            Format(s.real_time_factor, 2) + "x real time)\n\n";
+            Format(s.real_time_factor, 2) + "x real time). Inputs:";
+      for (std::size_t i = 0; i < s.labels.size(); ++i) {
+        md += (i ? "; " : " ") + s.labels[i] + ": " + s.inputs[i];
+      }
+      md += "\n\n";
     }
     if (s.rows.empty()) continue;
     md += "| metric | paper FG | paper EKF |";
@@ -196,7 +208,7 @@ nlohmann::json ToJson(const PaperTable& table) {
     }
     nlohmann::json columns = nlohmann::json::array();
     for (std::size_t i = 0; i < s.labels.size(); ++i) {
-      columns.push_back({{"label", s.labels[i]}, {"type", s.types[i]}});
+      columns.push_back({{"label", s.labels[i]}, {"type", s.types[i]}, {"inputs", s.inputs[i]}});
     }
     nlohmann::json j = {{"scenario", s.scenario}, {"columns", columns}, {"rows", rows}};
     if (s.failure.empty()) {

@@ -60,6 +60,7 @@ struct TableSection {
   std::string failure;              // empty: the run succeeded
   std::vector<std::string> labels;  // our estimators, scenario order
   std::vector<std::string> types;   // their types
+  std::vector<std::string> inputs;  // the sensors each was given ("all sensors" or a list)
   double simulated_s = 0.0, distance_m = 0.0, wall_time_s = 0.0, real_time_factor = 0.0;
   std::vector<TableRow> rows;  // metrics with a value in the paper or in one of our columns
 };

@@ -163,12 +163,12 @@ std::string KnownEstimatorList() {
   return list;
 }
 
-// One entry: `- ekf` (type, labelled by it) or `- {name, type, config, overrides}`.
+// One entry: `- ekf` (type, labelled by it) or `- {name, type, config, overrides, inputs}`.
 EstimatorSpec ParseEstimatorEntry(const YamlNode& entry, const fs::path& scenario_dir) {
   EstimatorSpec spec;
   spec.source = SourceRef::Of(entry);
   const YamlNode type_node = entry.IsScalar() ? entry : entry["type"];
-  if (!entry.IsScalar()) entry.ExpectOnlyKeys({"name", "type", "config", "overrides"});
+  if (!entry.IsScalar()) entry.ExpectOnlyKeys({"name", "type", "config", "overrides", "inputs"});
   spec.type = type_node.As<std::string>();
   const std::vector<std::string> known = est::KnownEstimators();
   if (std::find(known.begin(), known.end(), spec.type) == known.end()) {
@@ -193,6 +193,18 @@ EstimatorSpec ParseEstimatorEntry(const YamlNode& entry, const fs::path& scenari
     spec.config = fs::absolute(spec.config).lexically_normal();
   } else if (const auto found = FindEstimatorConfigFile(scenario_dir, spec.type)) {
     spec.config = *found;
+  }
+  if (const auto inputs = entry.IsScalar() ? std::nullopt : entry.Find("inputs")) {
+    inputs->ExpectSequence();
+    if (inputs->size() == 0)
+      inputs->Fail("empty list: name the sensors, or leave 'inputs' out for all");
+    for (std::size_t i = 0; i < inputs->size(); ++i) {
+      const std::string id = inputs->At(i).As<std::string>();
+      if (std::find(spec.inputs.begin(), spec.inputs.end(), id) != spec.inputs.end()) {
+        inputs->At(i).Fail("sensor '" + id + "' named twice");
+      }
+      spec.inputs.push_back(id);
+    }
   }
   if (const auto overrides = entry.IsScalar() ? std::nullopt : entry.Find("overrides")) {
     if (!overrides->IsNull()) {

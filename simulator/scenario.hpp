@@ -128,7 +128,11 @@ struct EstimatorSpec {
   std::string type;                   // one of est::KnownEstimators()
   std::filesystem::path config;       // options file; empty: the type's built-in defaults
   std::optional<YamlNode> overrides;  // a map, deep-merged over `config`
-  SourceRef source;                   // the list entry, for messages
+  // The sensors the estimator is given (ids of the setup; empty: all of them). The others are
+  // not on its vehicle: it never sees their measurements, and its view of the setup leaves them
+  // out (e.g. the paper's setup-2 factor graph: IMU, front GNSS and lidar only).
+  std::vector<std::string> inputs;
+  SourceRef source;  // the list entry, for messages
 };
 
 struct Scenario {
@@ -142,8 +146,8 @@ struct Scenario {
   EgoSpec ego;
   TrafficSpec traffic;
   SumoSpec sumo;
-  std::optional<YamlNode> sensors;  // unparsed: a file name or an inline map (issue 3)
-  std::optional<YamlNode> faults;   // unparsed
+  std::optional<YamlNode> sensors;        // unparsed: a file name or an inline map (issue 3)
+  std::optional<YamlNode> faults;         // unparsed
   std::vector<EstimatorSpec> estimators;  // empty: none listed (see ScenarioEstimators)
 };
 

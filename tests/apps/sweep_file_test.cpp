@@ -1,5 +1,7 @@
 // The sweep file and its expansion: file:line errors before anything runs, grid and zip
 // expansion, deterministic ids and draws, shards that partition the runs.
+#include "apps/sweep_file.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,7 +10,6 @@
 #include <set>
 
 #include "apps/sweep_expansion.hpp"
-#include "apps/sweep_file.hpp"
 #include "core/error.hpp"
 
 namespace statebench::app {
@@ -30,8 +31,8 @@ class SweepFileTest : public ::testing::Test {
   fs::path Write(const std::string& body) {
     const fs::path file = dir_ / "sweep.yaml";
     std::ofstream(file) << "name: test\n"
-                        << "scenarios: [" << fs::absolute("scenarios/paper/setup2_quadricycle.yaml").string()
-                        << "]\n"
+                        << "scenarios: ["
+                        << fs::absolute("scenarios/paper/setup2_quadricycle.yaml").string() << "]\n"
                         << body;
     return file;
   }
@@ -50,12 +51,13 @@ class SweepFileTest : public ::testing::Test {
 };
 
 TEST_F(SweepFileTest, GridExpansionWithIdsAndParameters) {
-  const SweepSpec spec = LoadSweepFile(Write(
-      "seeds: {count: 3, first: 10}\n"
-      "estimators: [factor_graph]\n"
-      "axes:\n"
-      "  cep_m: {path: sensors.gnss_front.cep_m, values: [1.0, 2.0]}\n"
-      "  window_s: {path: estimators.factor_graph.window_s, range: {start: 0.5, stop: 1.5, step: 0.5}}\n"));
+  const SweepSpec spec =
+      LoadSweepFile(Write("seeds: {count: 3, first: 10}\n"
+                          "estimators: [fg_paper_inputs]\n"
+                          "axes:\n"
+                          "  cep_m: {path: sensors.gnss_front.cep_m, values: [1.0, 2.0]}\n"
+                          "  window_s: {path: estimators.fg_paper_inputs.window_s, range: {start: "
+                          "0.5, stop: 1.5, step: 0.5}}\n"));
   const std::vector<SweepRun> runs = ExpandSweep(spec, "v1");
   ASSERT_EQ(runs.size(), 2u * 3u * 3u);
   EXPECT_EQ(runs[0].parameters, (std::vector<std::pair<std::string, std::string>>{
@@ -64,7 +66,7 @@ TEST_F(SweepFileTest, GridExpansionWithIdsAndParameters) {
   EXPECT_EQ(runs[1].seed, 11u);
   EXPECT_EQ(runs[3].parameters[1].second, "1");
   EXPECT_EQ(runs.back().parameters[0].second, "2.0");
-  EXPECT_EQ(runs[0].estimators, std::vector<std::string>{"factor_graph"});
+  EXPECT_EQ(runs[0].estimators, std::vector<std::string>{"fg_paper_inputs"});
   std::set<std::string> ids;
   for (const SweepRun& r : runs) ids.insert(r.id);
   EXPECT_EQ(ids.size(), runs.size());
@@ -78,19 +80,20 @@ TEST_F(SweepFileTest, GridExpansionWithIdsAndParameters) {
 TEST_F(SweepFileTest, AnAxisThatChangesNothingIsRefused) {
   const std::string e = Error(
       "seeds: [1]\nestimators: [ekf]\naxes:\n"
-      "  window_s: {path: estimators.factor_graph.window_s, values: [1.0, 2.0]}\n");
+      "  window_s: {path: estimators.fg_paper_inputs.window_s, values: [1.0, 2.0]}\n");
   EXPECT_NE(e.find("sweep.yaml:6:"), std::string::npos) << e;
   EXPECT_NE(e.find("same run"), std::string::npos) << e;
 }
 
 TEST_F(SweepFileTest, ZipModeAndRandomDrawsFromTheRunSeed) {
-  const SweepSpec spec = LoadSweepFile(Write(
-      "seeds: [1, 2]\n"
-      "mode: zip\n"
-      "axes:\n"
-      "  cep_m: {path: sensors.gnss_front.cep_m, values: [1.0, 4.0]}\n"
-      "  vertical: {path: sensors.gnss_front.vertical_sigma_m, values: [1.3, 5.1]}\n"
-      "  dropout: {path: sensors.lidar_roof.dropout_probability, uniform: {low: 0.0, high: 0.2}}\n"));
+  const SweepSpec spec = LoadSweepFile(
+      Write("seeds: [1, 2]\n"
+            "mode: zip\n"
+            "axes:\n"
+            "  cep_m: {path: sensors.gnss_front.cep_m, values: [1.0, 4.0]}\n"
+            "  vertical: {path: sensors.gnss_front.vertical_sigma_m, values: [1.3, 5.1]}\n"
+            "  dropout: {path: sensors.lidar_roof.dropout_probability, uniform: {low: 0.0, high: "
+            "0.2}}\n"));
   const std::vector<SweepRun> runs = ExpandSweep(spec, "v1");
   ASSERT_EQ(runs.size(), 4u);
   EXPECT_EQ(runs[2].parameters[0].second, "4.0");
@@ -120,7 +123,9 @@ TEST_F(SweepFileTest, ShardsPartitionTheRuns) {
 
 TEST_F(SweepFileTest, BadFilesNameTheirLine) {
   // Unknown path (a block map: its line is that of its first key).
-  std::string e = Error("seeds: [1]\naxes:\n  x: {path: sensors.gnss_front.cep_m, values: [1]}\n  y:\n    path: sensors.gnss_rear.cep_m\n    values: [1]\n");
+  std::string e = Error(
+      "seeds: [1]\naxes:\n  x: {path: sensors.gnss_front.cep_m, values: [1]}\n  y:\n    path: "
+      "sensors.gnss_rear.cep_m\n    values: [1]\n");
   EXPECT_NE(e.find("sweep.yaml:7:"), std::string::npos) << e;
   EXPECT_NE(e.find("gnss_rear"), std::string::npos) << e;
   // The axis x above has no values: its own message.
@@ -131,7 +136,7 @@ TEST_F(SweepFileTest, BadFilesNameTheirLine) {
   EXPECT_NE(e.find("sweep.yaml:5:"), std::string::npos) << e;
   EXPECT_NE(e.find("cep_m"), std::string::npos) << e;
   // A key the estimator does not have.
-  e = Error("seeds: [1]\naxes:\n  x: {path: estimators.factor_graph.window_sx, values: [1]}\n");
+  e = Error("seeds: [1]\naxes:\n  x: {path: estimators.fg_paper_inputs.window_sx, values: [1]}\n");
   EXPECT_NE(e.find("sweep.yaml:5:"), std::string::npos) << e;
   EXPECT_NE(e.find("window_sx"), std::string::npos) << e;
   // Empty axis.
@@ -147,7 +152,9 @@ TEST_F(SweepFileTest, BadFilesNameTheirLine) {
   e = Error("seeds: [1]\nestimators: [ukf]\n");
   EXPECT_NE(e.find("sweep.yaml:4:"), std::string::npos) << e;
   // Zip with different lengths.
-  e = Error("seeds: [1]\nmode: zip\naxes:\n  a: {path: sensors.gnss_front.cep_m, values: [1, 2]}\n  b: {path: sensors.gnss_front.rate_hz, values: [1]}\n");
+  e = Error(
+      "seeds: [1]\nmode: zip\naxes:\n  a: {path: sensors.gnss_front.cep_m, values: [1, 2]}\n  b: "
+      "{path: sensors.gnss_front.rate_hz, values: [1]}\n");
   EXPECT_NE(e.find("sweep.yaml:7:"), std::string::npos) << e;
   // A path through a field that is null in the base scenario.
   e = Error("seeds: [1]\naxes:\n  x: {path: faults.gnss_outages[0].start_s, values: [1]}\n");

@@ -54,7 +54,7 @@ TEST_F(ScenarioResolutionTest, ResolvedScenarioRunsTheSameFromAnotherFolder) {
 TEST_F(ScenarioResolutionTest, PathsNameSensorsAndEstimatorsById) {
   YAML::Node resolved = ResolveScenario(kSetup2);
   SetScenarioValue(resolved, "sensors.gnss_front.cep_m", YAML::Node(4.0));
-  SetScenarioValue(resolved, "estimators.factor_graph.window_s", YAML::Node(0.5));
+  SetScenarioValue(resolved, "estimators.fg_paper_inputs.window_s", YAML::Node(0.5));
   SetScenarioValue(resolved, "sensors.imu.preset", YAML::Node("consumer"));
   SetScenarioValue(resolved, "ego.route[0]", YAML::Node("A1B1"));
   EXPECT_EQ(ScenarioValue(resolved, "sensors.gnss_front.cep_m").as<double>(), 4.0);
@@ -75,7 +75,7 @@ TEST_F(ScenarioResolutionTest, MissingPathsSayWhatExists) {
     return std::string("no error");
   };
   EXPECT_NE(message("sensors.gnss_rear.cep_m").find("gnss_front"), std::string::npos);
-  EXPECT_NE(message("estimators.kalman.window_s").find("factor_graph"), std::string::npos);
+  EXPECT_NE(message("estimators.kalman.window_s").find("fg_paper_inputs"), std::string::npos);
   EXPECT_NE(message("faults.gnss_outages[0].start_s").find("faults"), std::string::npos);
   EXPECT_NE(message("ego.route[99]").find("elements"), std::string::npos);
   EXPECT_NE(message("ego..loops").find("empty key"), std::string::npos);
