@@ -35,6 +35,22 @@ def envelope_indices(values, max_points):
     return keep
 
 
+def bucket_maxima(t, values, buckets):
+    """The largest finite value of each of `buckets` runs of consecutive points, at the middle
+    stamp of its run: [(t, max)] (runs without a finite value left out). For a band that changes
+    slowly (an estimator's sigma), drawn at its loosest in each bucket."""
+    n = len(values)
+    out = []
+    buckets = max(1, min(buckets, n))
+    for b in range(buckets):
+        lo = b * n // buckets
+        hi = (b + 1) * n // buckets
+        finite = [v for v in values[lo:hi] if v == v]
+        if hi > lo and finite:
+            out.append((0.5 * (t[lo] + t[hi - 1]), max(finite)))
+    return out
+
+
 def stride_indices(n, max_points):
     """Every k-th index (first and last included) so that at most about max_points remain."""
     if n <= max_points:

@@ -76,8 +76,14 @@ _RENDER_JS = """
 
 
 def _json_for_script(value):
-    """JSON safe inside a <script> element: <, > and & escaped (no '</script>' can end it)."""
-    text = json.dumps(value, cls=plotly.utils.PlotlyJSONEncoder, separators=(",", ":"))
+    """Compact JSON safe inside a <script> element: <, > and & escaped (no '</script>' can end
+    it); NaN and infinities, which JSON lacks, as null (Plotly: a gap)."""
+    try:
+        text = json.dumps(value, separators=(",", ":"), allow_nan=False,
+                          default=plotly.utils.PlotlyJSONEncoder().default)
+    except ValueError:  # a NaN somewhere: Plotly's encoder turns it into null
+        plain = json.loads(json.dumps(value, cls=plotly.utils.PlotlyJSONEncoder))
+        text = json.dumps(plain, separators=(",", ":"))
     return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
 
 

@@ -15,6 +15,7 @@ from .style import (ACCEPTED_COLOUR, FIX_COLOURS, LANE_COLOUR, OUTAGE_COLOUR, RE
                     TRUTH_COLOUR, estimator_colour, rgba)
 
 MAX_TIME_POINTS = 1600   # per curve against time
+MAX_BAND_POINTS = 300    # per sigma band (each side)
 MAX_TRACK_POINTS = 4000  # per trajectory
 
 
@@ -25,8 +26,8 @@ def _shade_outages(fig, outages, rows=None):
         fig.add_vrect(x0=begin, x1=end, fillcolor=OUTAGE_COLOUR, opacity=0.18, line_width=0,
                       layer="below", **kwargs)
     if outages:
-        fig.add_annotation(x=outages[0][0], y=1.0, xref="x", yref="paper", text="GNSS outage",
-                           showarrow=False, xanchor="left", yanchor="bottom",
+        fig.add_annotation(x=outages[0][0], y=1.0, xref="x", yref="y domain", text=" GNSS outage",
+                           showarrow=False, xanchor="left", yanchor="top",
                            font={"color": "#b36b00", "size": 11})
 
 
@@ -50,6 +51,12 @@ def trajectory(lanes_xy, reference, tracks, fixes, rejected, outages):
                 y=decimate.rounded_fixed(decimate.pick(y, idx), 3), mode="lines",
                 name="GNSS outage", legendgroup="outage", showlegend=k == 0,
                 line={"color": rgba(OUTAGE_COLOUR, 0.45), "width": 12}, hoverinfo="skip"))
+    for k, (sensor, (t, x, y)) in enumerate(sorted(fixes.items())):
+        fig.add_trace(go.Scatter(
+            x=decimate.rounded_fixed(x, 3), y=decimate.rounded_fixed(y, 3),
+            customdata=decimate.rounded_fixed(t, 2), mode="markers", name=f"GNSS fixes {sensor}",
+            marker={"color": FIX_COLOURS[k % len(FIX_COLOURS)], "size": 4, "opacity": 0.6},
+            hovertemplate=sensor + " fix t %{customdata} s<br>x %{x} m, y %{y} m<extra></extra>"))
     if reference:
         t, x, y = reference
         idx = decimate.stride_indices(len(t), MAX_TRACK_POINTS)
@@ -67,12 +74,6 @@ def trajectory(lanes_xy, reference, tracks, fixes, rejected, outages):
             customdata=decimate.rounded_fixed(decimate.pick(t, idx), 2), mode="lines", name=label,
             line={"color": estimator_colour(index), "width": 1.2},
             hovertemplate=label + " t %{customdata} s<br>x %{x} m, y %{y} m<extra></extra>"))
-    for k, (sensor, (t, x, y)) in enumerate(sorted(fixes.items())):
-        fig.add_trace(go.Scatter(
-            x=decimate.rounded_fixed(x, 3), y=decimate.rounded_fixed(y, 3),
-            customdata=decimate.rounded_fixed(t, 2), mode="markers", name=f"GNSS fixes {sensor}",
-            marker={"color": FIX_COLOURS[k % len(FIX_COLOURS)], "size": 4, "opacity": 0.6},
-            hovertemplate=sensor + " fix t %{customdata} s<br>x %{x} m, y %{y} m<extra></extra>"))
     for label, index, xs, ys, reasons in rejected:
         fig.add_trace(go.Scatter(
             x=decimate.rounded_fixed(xs, 3), y=decimate.rounded_fixed(ys, 3), text=reasons,
@@ -82,6 +83,15 @@ def trajectory(lanes_xy, reference, tracks, fixes, rejected, outages):
             hovertemplate=label + " rejected: %{text}<br>x %{x} m, y %{y} m<extra></extra>"))
     fig.update_layout(height=680, margin={"l": 60, "r": 20, "t": 30, "b": 50}, dragmode="pan",
                       legend={"orientation": "v"}, hovermode="closest")
+    # First view: the drive, not the whole network (double-click zooms out to everything).
+    xs, ys = [], []
+    for track in ([reference] if reference else []) + [tr for _, _, tr in tracks]:
+        xs += [v for v in track[1] if v == v]
+        ys += [v for v in track[2] if v == v]
+    if xs:
+        pad = 0.05 * max(max(xs) - min(xs), max(ys) - min(ys), 20.0)
+        fig.update_xaxes(range=[min(xs) - pad, max(xs) + pad])
+        fig.update_yaxes(range=[min(ys) - pad, max(ys) + pad])
     fig.update_xaxes(title_text="x east [m]")
     fig.update_yaxes(title_text="y north [m]", scaleanchor="x", scaleratio=1)
     return fig
@@ -100,27 +110,28 @@ def inside_fraction(values, bounds_low, bounds_high):
 def errors_against_time(series, outages):
     """Error per axis against time with each estimator's +-3 sigma band.
 
-    series: [(label, index, columns of errors.csv)]."""
+    series: [(label, index, columns of errors.csv)]. The band is drawn at its widest over each
+    of MAX_BAND_POINTS stretches of the run (sigma changes slowly; the band table beside the
+    figure counts every epoch against its own sigma)."""
     titles = [f"{title} [{unit}]" for _, _, title, unit in ERROR_AXES]
     fig = make_subplots(rows=len(ERROR_AXES), cols=1, shared_xaxes=True, vertical_spacing=0.025,
                         subplot_titles=titles)
     for row, (error_col, sigma_col, _, _) in enumerate(ERROR_AXES, start=1):
         for label, index, c in series:
             colour = estimator_colour(index)
+            band = decimate.bucket_maxima(c["t_ns"], c[sigma_col], MAX_BAND_POINTS)
+            if band:
+                t_band = decimate.rounded_fixed([t for t, _ in band], 2)
+                upper = decimate.rounded([3 * s for _, s in band], 3)
+                fig.add_trace(go.Scatter(
+                    x=t_band + t_band[::-1], y=upper + [-u for u in upper[::-1]], mode="lines",
+                    fill="toself", fillcolor=rgba(colour, 0.16), line={"width": 0, "color": colour},
+                    name=f"{label} ±3σ", legendgroup=label, showlegend=row == 1,
+                    hoverinfo="skip"), row=row, col=1)
             idx = decimate.envelope_indices(c[error_col], MAX_TIME_POINTS)
-            t = decimate.rounded_fixed(decimate.pick(c["t_ns"], idx), 3)
-            sigma3 = [3 * s for s in decimate.pick(c[sigma_col], idx)]
             fig.add_trace(go.Scatter(
-                x=t, y=decimate.rounded([-s for s in sigma3], 3), mode="lines",
-                line={"width": 0, "color": colour}, legendgroup=label + " band", showlegend=False,
-                hoverinfo="skip", connectgaps=False), row=row, col=1)
-            fig.add_trace(go.Scatter(
-                x=t, y=decimate.rounded(sigma3, 3), mode="lines", fill="tonexty",
-                fillcolor=rgba(colour, 0.16), line={"width": 0, "color": colour},
-                name=f"{label} ±3σ", legendgroup=label + " band", showlegend=row == 1,
-                hoverinfo="skip", connectgaps=False), row=row, col=1)
-            fig.add_trace(go.Scatter(
-                x=t, y=decimate.rounded(decimate.pick(c[error_col], idx), 4), mode="lines",
+                x=decimate.rounded_fixed(decimate.pick(c["t_ns"], idx), 2),
+                y=decimate.rounded(decimate.pick(c[error_col], idx), 4), mode="lines",
                 line={"width": 1, "color": colour}, name=f"{label} error", legendgroup=label,
                 showlegend=row == 1,
                 hovertemplate=label + " t %{x} s: %{y}<extra></extra>"), row=row, col=1)
@@ -147,14 +158,18 @@ def nees_against_time(series, bounds):
             idx = decimate.envelope_indices(c[column], MAX_TIME_POINTS)
             values = [v if v > 0 else math.nan for v in decimate.pick(c[column], idx)]
             fig.add_trace(go.Scatter(
-                x=decimate.rounded_fixed(decimate.pick(c["t_ns"], idx), 3),
+                x=decimate.rounded_fixed(decimate.pick(c["t_ns"], idx), 2),
                 y=decimate.rounded(values, 4), mode="lines", name=label, legendgroup=label,
                 showlegend=r == 1, line={"width": 1, "color": estimator_colour(index)},
                 hovertemplate=label + " t %{x} s: NEES %{y}<extra></extra>"), row=r, col=1)
         for value, text in ((low, "2.5 %"), (high, "97.5 %")):
-            fig.add_hline(y=value, line_dash="dash", line_color="#555", line_width=1, row=r, col=1,
-                          annotation_text=f"χ² {text}: {value:.3g}",
-                          annotation_position="top right", annotation_font_size=10)
+            fig.add_hline(y=value, line_dash="dash", line_color="#555", line_width=1, row=r, col=1)
+            # On a log axis an annotation's y is the log10 of the value (a shape's is the value).
+            axis = "" if r == 1 else str(r)
+            fig.add_annotation(x=1.0, xref="x domain" if r == 1 else f"x{axis} domain",
+                               y=math.log10(value), yref=f"y{axis}", text=f"χ² {text}: {value:.3g}",
+                               showarrow=False, xanchor="right", yanchor="bottom",
+                               font={"size": 10, "color": "#333"})
         fig.update_yaxes(type="log", title_text="NEES", row=r, col=1)
     fig.update_layout(height=620, hovermode="closest", margin={"l": 70, "r": 20, "t": 40, "b": 50},
                       legend={"orientation": "h", "y": 1.04, "yanchor": "bottom", "x": 0})

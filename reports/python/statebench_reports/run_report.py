@@ -214,8 +214,10 @@ def _errors_section(page, run, outages, bounds, missing):
     page.figure(run_figures.errors_against_time(series, outages), caption=(
         "Estimate minus truth per axis (along and across the truth's heading; yaw wrapped) and "
         "each estimator's own ±3σ from its covariance, shaded around zero: a consistent "
-        "estimator's error stays inside its band about 99.7 % of the time. Curves thinned for "
-        "drawing (each bucket's extremes kept); the table uses every epoch."))
+        "estimator's error stays inside its band about 99.7 % of the time. Drawn thinned: the "
+        "errors keep each bucket's extremes, the band is each of 300 stretches at its widest; "
+        "the table below counts every epoch against its own σ. A click on an estimator in the "
+        "legend hides its error and band, and the axes rescale to the others."))
     page.paragraph("Epochs whose error lies inside the estimator's own ±3σ:")
     _band_table(page, series, outages)
     page.section("NEES", "nees")
