@@ -8,7 +8,6 @@ JOB: {"out", "plotly_js", "data": SweepReportData (reports/sweep_report_data.hpp
 <out without .html>_runs/<run id>.html.
 """
 
-import math
 import os
 import sys
 
