@@ -16,5 +16,6 @@ int RunSuite(const std::vector<std::string>& args);
 int RunSweep(const std::vector<std::string>& args);
 int RunResults(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
+int RunReportCommand(const std::vector<std::string>& args);
 
 }  // namespace statebench::app

@@ -12,7 +12,9 @@
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
+#include "apps/html_report.hpp"
 #include "core/error.hpp"
+#include "reports/comparison_json.hpp"
 #include "reports/paired_comparison.hpp"
 #include "reports/results_store.hpp"
 
@@ -28,7 +30,7 @@ constexpr const char* kUsage =
     "  and metric of the thresholds file (default scenarios/regression/thresholds.yaml): the\n"
     "  paired differences, a Wilcoxon signed-rank test, a bootstrap interval of the median\n"
     "  difference and a verdict (better / worse / no significant change). Prints a Markdown\n"
-    "  summary, writes the HTML with --out. Exit code: 0 no metric worse, 1 some metric worse,\n"
+    "  summary, writes the HTML report with plots of the paired differences with --out. Exit code: 0 no metric worse, 1 some metric worse,\n"
     "  2 bad input (no run in common, a bad thresholds file), 3 another failure.\n";
 
 // The runs of a store or of a run folder.
@@ -87,10 +89,19 @@ int RunCompare(const std::vector<std::string>& argv) {
     const reports::Comparison c =
         reports::CompareRuns(LoadRuns(base), LoadRuns(candidate), thresholds);
     std::printf("%s", reports::ComparisonMarkdown(c, base.string(), candidate.string()).c_str());
+    std::fflush(stdout);
     if (const auto out = args.Option("out")) {
-      std::ofstream html(*out);
-      html << reports::ComparisonHtml(c, base.string(), candidate.string());
-      if (!html) throw InputError(*out + ": cannot write");
+      // The verdict stands whatever happens to the page: a page that cannot be drawn is
+      // "another failure" (3) unless a metric is worse (1 says more to a gate).
+      try {
+        RenderHtmlReport("compare_report",
+                         {{"comparison", reports::ComparisonJson(c, base.string(), candidate.string(),
+                                                                 thresholds.significance)}},
+                         *out);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: the HTML report %s: %s\n", out->c_str(), e.what());
+        return c.AnyWorse() ? 1 : 3;
+      }
     }
     return c.AnyWorse() ? 1 : 0;
   } catch (...) {

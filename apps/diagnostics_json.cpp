@@ -2,7 +2,15 @@
 
 #include <algorithm>
 
+#include "core/running_statistics.hpp"
+
 namespace statebench::app {
+namespace {
+
+constexpr int kSolveHistogramBinsPerDecade = 10;
+
+}  // namespace
+
 nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
   nlohmann::json sensors = nlohmann::json::object();
   for (const auto& [id, c] : d.sensors) {
@@ -25,6 +33,16 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                        {"solve_ms_median", p.median_ms},
                        {"solve_ms_p99", p.p99_ms},
                        {"solve_ms_max", p.max_ms}});
+  }
+  // Every update's solve time in 10 bins per decade (the run report's histogram).
+  nlohmann::json histogram = {{"bins_per_decade", kSolveHistogramBinsPerDecade},
+                              {"low_ms", nlohmann::json::array()},
+                              {"high_ms", nlohmann::json::array()},
+                              {"count", nlohmann::json::array()}};
+  for (const RunningStatistics::LogBin& b : u.solve_ms().LogHistogram(kSolveHistogramBinsPerDecade)) {
+    histogram["low_ms"].push_back(b.low);
+    histogram["high_ms"].push_back(b.high);
+    histogram["count"].push_back(b.count);
   }
   nlohmann::json lost = nlohmann::json::array();
   for (const est::LostEpisode& e : d.lost) {
@@ -52,7 +70,8 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
             {"solve_ms_p99", u.solve_ms().Quantile(0.99)},
             {"solve_ms_max", u.solve_ms().max()},
             {"with_factor", u.with_factor()},
-            {"per_minute", periods}}}};
+            {"per_minute", periods},
+            {"solve_ms_histogram", histogram}}}};
 }
 
 

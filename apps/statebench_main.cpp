@@ -21,6 +21,7 @@ constexpr const char* kUsage =
     "  sweep SWEEP.yaml --out DIR         Monte Carlo sweep: many runs into a results store\n"
     "  results summary|merge DB ...       statistics of a results store; merge shard stores\n"
     "  compare BASE CANDIDATE             regression verdicts between two stores or run folders\n"
+    "  report RUN_DIR|DB --out FILE.html  HTML report with plots of a run or a sweep's store\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
   if (command == "sweep") return statebench::app::RunSweep(args);
   if (command == "results") return statebench::app::RunResults(args);
   if (command == "compare") return statebench::app::RunCompare(args);
+  if (command == "report") return statebench::app::RunReportCommand(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

@@ -75,4 +75,30 @@ double RunningStatistics::Median() const {
   return count_ % 2 ? ValueOfRank(m) : 0.5 * (ValueOfRank(m - 1) + ValueOfRank(m));
 }
 
+std::vector<RunningStatistics::LogBin> RunningStatistics::LogHistogram(
+    int bins_per_decade) const {
+  assert(bins_per_decade > 0);
+  std::vector<LogBin> out;
+  if (count_ == 0) return out;
+  const double per_decade = static_cast<double>(bins_per_decade);
+  const auto coarse_of = [&](std::size_t fine) {
+    const double v = BinValue(fine == 0 ? 1 : fine);
+    return static_cast<long>(std::floor(std::log10(v) * per_decade));
+  };
+  std::size_t first = 0;
+  while (first < bins_.size() && bins_[first] == 0) ++first;
+  std::size_t last = bins_.size() - 1;
+  while (last > first && bins_[last] == 0) --last;
+  const long low = coarse_of(first);
+  const long high = coarse_of(last);
+  for (long k = low; k <= high; ++k) {
+    out.push_back({std::pow(10.0, static_cast<double>(k) / per_decade),
+                   std::pow(10.0, static_cast<double>(k + 1) / per_decade), 0});
+  }
+  for (std::size_t b = first; b <= last; ++b) {
+    if (bins_[b] != 0) out[static_cast<std::size_t>(coarse_of(b) - low)].count += bins_[b];
+  }
+  return out;
+}
+
 }  // namespace statebench

@@ -35,6 +35,17 @@ class RunningStatistics {
   double Quantile(double q) const;
   double Median() const;
 
+  // The values counted in bins of equal width on a log scale, `bins_per_decade` per decade, edges
+  // at 10^(k / bins_per_decade) (to the histogram's resolution above: a fine bin counts in the
+  // coarse bin holding its middle), from the lowest non-empty bin to the highest, empty bins
+  // between included; values below kMin count in the lowest. Empty when nothing was added.
+  struct LogBin {
+    double low = 0.0;
+    double high = 0.0;
+    std::uint64_t count = 0;
+  };
+  std::vector<LogBin> LogHistogram(int bins_per_decade) const;
+
  private:
   std::size_t BinOf(double value) const;
   double BinValue(std::size_t bin) const;

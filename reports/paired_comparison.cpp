@@ -12,22 +12,6 @@
 namespace statebench::reports {
 namespace {
 
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    if (c == '<') {
-      out += "&lt;";
-    } else if (c == '>') {
-      out += "&gt;";
-    } else if (c == '&') {
-      out += "&amp;";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 struct Row {
   std::string estimator, metric, pairs, base, candidate, difference, interval, p, threshold,
       verdict;
@@ -218,6 +202,8 @@ Comparison CompareRuns(const std::vector<RunRecord>& base, const std::vector<Run
       MetricComparison m;
       m.estimator = estimator;
       m.metric = t.name;
+      m.better = t.target ? "closer" : t.lower_is_better ? "lower" : "higher";
+      m.target = t.target;
       std::vector<double> b, k, d;
       for (const auto& [br, kr] : pairs) {
         const double x = value_of(*br, estimator, t.name);
@@ -226,6 +212,7 @@ Comparison CompareRuns(const std::vector<RunRecord>& base, const std::vector<Run
         b.push_back(x);
         k.push_back(y);
         d.push_back(t.target ? std::abs(y - *t.target) - std::abs(x - *t.target) : y - x);
+        m.paired.push_back({PairingKey(*br), x, y, d.back()});
       }
       m.pairs = d.size();
       if (d.empty()) {
@@ -282,37 +269,6 @@ std::string ComparisonMarkdown(const Comparison& c, const std::string& base_name
       out << "- " << c.unpaired[i] << "\n";
     }
   }
-  return out.str();
-}
-
-std::string ComparisonHtml(const Comparison& c, const std::string& base_name,
-                           const std::string& candidate_name) {
-  std::ostringstream out;
-  out << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>StateBench comparison"
-         "</title>\n<style>body{font-family:sans-serif;margin:2em}table{border-collapse:"
-         "collapse}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
-         "td:nth-child(-n+2){text-align:left}.worse{background:#fdd}.better{background:#dfd}"
-         "</style></head><body>\n<h1>StateBench comparison</h1>\n<p>base <code>"
-      << Escape(base_name) << "</code> (" << c.base_runs << " runs), candidate <code>"
-      << Escape(candidate_name) << "</code> (" << c.candidate_runs << " runs), " << c.pairs
-      << " pairs by scenario, parameters and seed.</p>\n<table id=\"verdicts\"><tr><th>estimator"
-         "</th><th>metric</th><th>pairs</th><th>base median</th><th>candidate median</th><th>"
-         "median diff</th><th>95% CI of diff</th><th>p</th><th>threshold</th><th>verdict</th>"
-         "</tr>\n";
-  for (const Row& r : Rows(c)) {
-    const std::string cls = r.verdict == "worse" ? "worse" : r.verdict == "better" ? "better" : "";
-    out << "<tr class=\"" << cls << "\"><td>" << Escape(r.estimator) << "</td><td>"
-        << Escape(r.metric) << "</td><td>" << r.pairs << "</td><td>" << r.base << "</td><td>"
-        << r.candidate << "</td><td>" << r.difference << "</td><td>" << r.interval << "</td><td>"
-        << r.p << "</td><td>" << r.threshold << "</td><td>" << r.verdict << "</td></tr>\n";
-  }
-  out << "</table>\n";
-  if (!c.unpaired.empty()) {
-    out << "<h2>Runs without a partner</h2><ul>\n";
-    for (const std::string& u : c.unpaired) out << "<li>" << Escape(u) << "</li>\n";
-    out << "</ul>\n";
-  }
-  out << "</body></html>\n";
   return out.str();
 }
 

@@ -50,6 +50,8 @@ const char* VerdictName(Verdict v);
 struct MetricComparison {
   std::string estimator;
   std::string metric;
+  std::string better;             // lower, higher or closer (to target), as in the thresholds
+  std::optional<double> target;
   std::size_t pairs = 0;  // pairs where both values are finite
   double base_median = 0.0;
   double candidate_median = 0.0;
@@ -58,6 +60,15 @@ struct MetricComparison {
   double p_value = 1.0;
   double threshold = 0.0;  // the change that counts: max(absolute, relative * |base median|)
   Verdict verdict = Verdict::kNoData;
+  // The pairs that entered, in pairing-key order: the values of both sides and their difference
+  // as judged (candidate - base, or of the distances to the target).
+  struct Pair {
+    std::string key;  // PairingKey
+    double base = 0.0;
+    double candidate = 0.0;
+    double difference = 0.0;
+  };
+  std::vector<Pair> paired;
 };
 
 struct Comparison {
@@ -77,10 +88,9 @@ std::string PairingKey(const RunRecord& run);
 Comparison CompareRuns(const std::vector<RunRecord>& base, const std::vector<RunRecord>& candidate,
                        const RegressionThresholds& thresholds);
 
-// Markdown summary (a pull-request comment) and a self-contained HTML page of the same tables.
+// Markdown summary (a pull-request comment). The HTML report with plots is drawn from
+// ComparisonJson (reports/comparison_json.hpp) by the compare report (docs/reports.md).
 std::string ComparisonMarkdown(const Comparison& c, const std::string& base_name,
                                const std::string& candidate_name);
-std::string ComparisonHtml(const Comparison& c, const std::string& base_name,
-                           const std::string& candidate_name);
 
 }  // namespace statebench::reports

@@ -41,6 +41,16 @@ struct ResultsStore::Db {
   [[noreturn]] void Fail(const std::string& what) const {
     throw InputError(file + ": " + what + ": " + sqlite3_errmsg(handle));
   }
+  // The first column of the first row of a query returning one integer.
+  std::int64_t Integer(const char* sql) const {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(handle, sql, -1, &stmt, nullptr) != SQLITE_OK) Fail("cannot read");
+    const int rc = sqlite3_step(stmt);
+    const std::int64_t value = rc == SQLITE_ROW ? sqlite3_column_int64(stmt, 0) : 0;
+    sqlite3_finalize(stmt);
+    if (rc != SQLITE_ROW && rc != SQLITE_DONE) Fail("cannot read");
+    return value;
+  }
   void Exec(const std::string& sql) const {
     char* message = nullptr;
     if (sqlite3_exec(handle, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
@@ -136,8 +146,26 @@ ResultsStore::ResultsStore(const std::filesystem::path& file)
   db_->file = file.string();
   if (sqlite3_open(file.c_str(), &db_->handle) != SQLITE_OK) db_->Fail("cannot open");
   sqlite3_busy_timeout(db_->handle, 60000);
+  // The schema version (SQLite's user_version) is checked before anything is written: a store of
+  // a newer statebench, or another SQLite file, is refused as it is.
+  const int version = static_cast<int>(db_->Integer("PRAGMA user_version"));
+  const bool has_tables = db_->Integer("SELECT count(*) FROM sqlite_master WHERE type = 'table'") > 0;
+  const bool has_runs =
+      db_->Integer("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'runs'") > 0;
+  if (version > kSchemaVersion) {
+    throw InputError(db_->file + ": results store of schema version " + std::to_string(version) +
+                     "; this statebench reads version " + std::to_string(kSchemaVersion) +
+                     " (written by a newer statebench?)");
+  }
+  if (has_tables && !has_runs) {
+    throw InputError(db_->file + ": an SQLite file but not a results store (no table 'runs')");
+  }
+  // Version 0 with the tables: written before the version was recorded, the same schema as 1.
   db_->Exec("PRAGMA journal_mode=WAL; PRAGMA foreign_keys=ON; PRAGMA synchronous=NORMAL;");
   db_->Exec(kSchema);
+  if (version != kSchemaVersion) {
+    db_->Exec("PRAGMA user_version = " + std::to_string(kSchemaVersion));
+  }
 }
 
 ResultsStore::~ResultsStore() {

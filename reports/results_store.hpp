@@ -66,7 +66,12 @@ struct SweepRecord {
 
 class ResultsStore {
  public:
-  // Opens or creates the store (schema, WAL mode).
+  // The layout of the tables (SQLite's PRAGMA user_version; 0 in stores written before the
+  // version was recorded, which have this same layout).
+  static constexpr int kSchemaVersion = 1;
+
+  // Opens or creates the store (schema, WAL mode). Throws InputError for a store of a newer
+  // schema version or an SQLite file that is not a results store, naming the file.
   explicit ResultsStore(const std::filesystem::path& file);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;

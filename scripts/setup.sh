@@ -12,6 +12,8 @@ PACKAGES=(
   libembree-dev  # bench only: lidar_raycast_bench's Embree comparison
   clang libclang-rt-14-dev  # scripts/sanitize.sh: sanitizer build and libFuzzer targets
   sumo sumo-tools
+  python3 python3-plotly  # the HTML reports (reports/python, docs/reports.md)
+  chromium chromium-driver python3-selenium  # the reports' tests in a headless browser
 )
 
 SUDO=""
@@ -38,6 +40,37 @@ if [ ${#missing[@]} -gt 0 ]; then
   echo "setup: installed ${#missing[@]} packages"
 else
   echo "setup: all ${#PACKAGES[@]} packages present"
+fi
+
+# plotly.js for the HTML reports, from npm: the minified "basic" bundle (scatter, bar; about
+# 1 MB, where Debian's python3-plotly ships the full bundle unminified, 8.6 MB), at the version
+# Debian's python3-plotly 5.4 is built for. Into third_party/npm (not committed); npm's output
+# goes to a log file.
+PLOTLY_JS_VERSION=2.6.3
+PLOTLY_JS="plotly.js-basic-dist-min@$PLOTLY_JS_VERSION"
+plotly_dir="third_party/npm/node_modules/plotly.js-basic-dist-min"
+plotly_file="$plotly_dir/plotly-basic.min.js"
+if [ ! -f "$plotly_file" ] ||
+   ! grep -q "\"version\": \"$PLOTLY_JS_VERSION\"" "$plotly_dir/package.json"; then
+  if ! command -v npm >/dev/null; then
+    mkdir -p build
+    echo "setup: installing npm; apt output in build/apt-install.log"
+    if ! { $SUDO apt-get update -qq &&
+           DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends npm
+         } >>build/apt-install.log 2>&1; then
+      tail -n 20 build/apt-install.log >&2
+      echo "setup: apt-get failed, see build/apt-install.log" >&2
+      exit 1
+    fi
+  fi
+  mkdir -p build third_party/npm
+  echo "setup: installing $PLOTLY_JS with npm; output in build/npm-install.log"
+  if ! npm install --prefix third_party/npm --no-save --no-audit --no-fund "$PLOTLY_JS" \
+       >build/npm-install.log 2>&1 || [ ! -f "$plotly_file" ]; then
+    tail -n 20 build/npm-install.log >&2
+    echo "setup: npm install failed, see build/npm-install.log" >&2
+    exit 1
+  fi
 fi
 
 # SUMO's tools and data live under SUMO_HOME (Debian: /usr/share/sumo).

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -67,6 +68,35 @@ TEST(RunningStatistics, EmptyZerosAndHugeValues) {
   EXPECT_EQ(s.max(), 1e12);
   EXPECT_EQ(s.Quantile(1.0), 1e12);
   EXPECT_EQ(s.Median(), 0.0);
+}
+
+TEST(RunningStatistics, LogHistogramCountsEveryValueInItsDecadeBin) {
+  RunningStatistics s;
+  EXPECT_TRUE(s.LogHistogram(10).empty());
+  // Values away from the bin edges (closer than the 0.1 % resolution a value may fall either
+  // side): bin k of 4 per decade is [10^(k/4), 10^((k+1)/4)).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> inside(0.02, 0.98);
+  std::uniform_int_distribution<int> bin(-6, 9);  // 0.03 .. 178
+  std::map<int, std::uint64_t> expected;
+  for (int i = 0; i < 5000; ++i) {
+    const int k = bin(rng);
+    if (k == 2) continue;  // an empty bin between non-empty ones
+    s.Add(std::pow(10.0, (k + inside(rng)) / 4.0));
+    ++expected[k];
+  }
+  const std::vector<RunningStatistics::LogBin> h = s.LogHistogram(4);
+  ASSERT_EQ(h.size(), 16u);
+  std::uint64_t total = 0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const int k = -6 + static_cast<int>(i);
+    EXPECT_NEAR(h[i].low, std::pow(10.0, k / 4.0), 1e-12 * h[i].high) << k;
+    EXPECT_NEAR(h[i].high, std::pow(10.0, (k + 1) / 4.0), 1e-12 * h[i].high) << k;
+    EXPECT_EQ(h[i].count, expected[k]) << k;
+    total += h[i].count;
+  }
+  EXPECT_EQ(h[8].count, 0u);
+  EXPECT_EQ(total, s.count());
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 #include "reports/results_store.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.hpp"
 
@@ -106,6 +108,57 @@ TEST_F(ResultsStoreTest, MergeKeepsEveryRunOnceAndRefusesConflicts) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("run r1"), std::string::npos) << e.what();
   }
+}
+
+// Runs one statement on an SQLite file directly, as another program would.
+void ExecSql(const fs::path& file, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sql;
+  sqlite3_close(db);
+}
+
+int UserVersion(const fs::path& file) {
+  sqlite3* db = nullptr;
+  sqlite3_open(file.c_str(), &db);
+  sqlite3_stmt* stmt = nullptr;
+  sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &stmt, nullptr);
+  sqlite3_step(stmt);
+  const int version = sqlite3_column_int(stmt, 0);
+  sqlite3_finalize(stmt);
+  sqlite3_close(db);
+  return version;
+}
+
+TEST_F(ResultsStoreTest, SchemaVersionIsRecordedAndANewerOrForeignFileRefused) {
+  { ResultsStore store(dir_ / "a.db"); }
+  EXPECT_EQ(UserVersion(dir_ / "a.db"), ResultsStore::kSchemaVersion);
+
+  // A store written before the version was recorded (0) is the same layout: it opens.
+  {
+    ResultsStore store(dir_ / "old.db");
+    store.WriteRun(MakeRun("r1", 0.5));
+  }
+  ExecSql(dir_ / "old.db", "PRAGMA user_version = 0");
+  EXPECT_EQ(ResultsStore(dir_ / "old.db").Runs().size(), 1u);
+  EXPECT_EQ(UserVersion(dir_ / "old.db"), ResultsStore::kSchemaVersion);
+
+  ExecSql(dir_ / "a.db", "PRAGMA user_version = 99");
+  try {
+    ResultsStore store(dir_ / "a.db");
+    FAIL() << "a store of schema version 99 was opened";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a.db: results store of schema version 99; this "
+                                         "statebench reads version 1"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(UserVersion(dir_ / "a.db"), 99);  // left as it was
+
+  ExecSql(dir_ / "other.db", "CREATE TABLE t (x INTEGER)");
+  EXPECT_THROW(ResultsStore(dir_ / "other.db"), InputError);
+  std::ofstream(dir_ / "text.db") << "not a database, just a text file of some length\n";
+  EXPECT_THROW(ResultsStore(dir_ / "text.db"), InputError);
 }
 
 TEST(FlattenMetrics, NestedKeysListsAndNoIdentifiers) {
