@@ -193,12 +193,15 @@ std::vector<LidarPoint> PointsFromRos(const sensor_msgs::PointCloud2& msg,
       t_s.push_back(t);
     }
   }
+  // Points before the stamp: the stamp moves back to the earliest (rounded down to the
+  // nanosecond, so that no time is negative).
   double earliest = 0.0;
   for (double t : t_s) earliest = std::min(earliest, t);
-  if (earliest < 0.0) *stamp_ns += FromSeconds(earliest);
-  const double shift = earliest < 0.0 ? ToSeconds(FromSeconds(earliest)) : 0.0;
+  const TimeNs shift_ns = static_cast<TimeNs>(std::floor(earliest * 1e9));
+  *stamp_ns += shift_ns;
+  const double shift_s = static_cast<double>(shift_ns) / 1e9;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i].t = static_cast<float>(t_s[i] - shift);
+    points[i].t = static_cast<float>(t_s[i] - shift_s);
   }
   return points;
 }

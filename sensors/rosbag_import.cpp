@@ -22,7 +22,8 @@ struct Converted {
   std::optional<Measurement> measurement;
   std::string frame_id;
   TimeNs stamp_ns = 0;
-  TimeNs last_point_ns = 0;  // lidar: stamp of its last point (latency is counted after it)
+  // The latency is counted after this (a lidar sweep's last point); nullopt: an empty sweep.
+  std::optional<TimeNs> last_point_ns;
   std::size_t skipped = 0;   // lidar points
   std::string time_field;
 };
@@ -105,9 +106,11 @@ Converted Convert(const rosbag::MessageInstance& m, const RosTopicEntry& e, Time
     LidarScan scan;
     scan.points = std::make_shared<const std::vector<LidarPoint>>(
         ros1::PointsFromRos(*msg, e, &c.stamp_ns, &c.skipped, &timing));
-    float t_last = 0.f;
-    for (const LidarPoint& p : *scan.points) t_last = std::max(t_last, p.t);
-    c.last_point_ns = c.stamp_ns + FromSeconds(t_last);
+    if (!scan.points->empty()) {
+      float t_last = 0.f;
+      for (const LidarPoint& p : *scan.points) t_last = std::max(t_last, p.t);
+      c.last_point_ns = c.stamp_ns + FromSeconds(t_last);
+    }
     c.time_field = timing.field;
     c.measurement = std::move(scan);
     c.frame_id = msg->header.frame_id;
@@ -171,8 +174,10 @@ void Record(Stream& s, const Converted& c, const rosbag::MessageInstance& m, Tim
                      " ns (stamps of a sensor must increase)");
   }
   const TimeNs received_ns = static_cast<TimeNs>(m.getTime().toNSec()) + offset_ns;
-  const TimeNs delay_ns = received_ns - c.last_point_ns;
-  s.max_delay_ns = std::max(s.max_delay_ns.value_or(delay_ns), delay_ns);
+  if (c.last_point_ns) {
+    const TimeNs delay_ns = received_ns - *c.last_point_ns;
+    s.max_delay_ns = std::max(s.max_delay_ns.value_or(delay_ns), delay_ns);
+  }
   MeasurementHeader header{e.id, c.stamp_ns, std::max(received_ns, c.stamp_ns)};
   if (received_ns < c.stamp_ns) ++s.stats.arrivals_at_stamp;
   Measurement measurement = *c.measurement;
@@ -331,7 +336,8 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
     if (s.entry->latency_s) {
       s.stats.latency_s = s.entry->latency_s;
     } else if (s.max_delay_ns) {
-      s.stats.latency_s = ToSeconds(std::max<TimeNs>(*s.max_delay_ns, 0));
+      // Divided (not multiplied by 1e-9): 30 ms gives exactly the double of "0.03".
+      s.stats.latency_s = static_cast<double>(std::max<TimeNs>(*s.max_delay_ns, 0)) / 1e9;
     }
     if (s.stats.count > 0 && s.stats.frame_id.empty() && !s.entry->T_body_sensor) {
       result.notes.push_back("topic '" + s.stats.topic +

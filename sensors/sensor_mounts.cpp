@@ -46,7 +46,7 @@ std::vector<SensorMount> ReadSensorMounts(const std::filesystem::path& setup_fil
 std::string SensorMountsYaml(const std::string& name, const std::vector<SensorMount>& mounts,
                              const std::string& header_comment) {
   std::string y = header_comment;
-  y += "name: " + Quoted(name) + "\nsensors:\n";
+  y += "name: " + Quoted(name) + "\nsensors:" + (mounts.empty() ? " []\n" : "\n");
   for (const SensorMount& m : mounts) {
     if (!m.comment.empty()) y += "  # " + m.comment + "\n";
     y += "  - type: " + m.type + "\n    id: " + Quoted(m.id) + "\n";
