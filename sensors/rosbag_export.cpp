@@ -70,6 +70,14 @@ void WriteStaticTransforms(rosbag::Bag& bag, const std::vector<SensorMount>& mou
   bag.write("/tf_static", time, msg, header);
 }
 
+// Writes the message; returns its datatype.
+template <typename Msg>
+std::string Put(rosbag::Bag& bag, const std::string& topic, const ros::Time& time,
+                const Msg& msg) {
+  bag.write(topic, time, msg);
+  return ros::message_traits::datatype(msg);
+}
+
 class BagWriter {
  public:
   BagWriter(rosbag::Bag& bag, TimeNs offset_ns) : bag_(bag), offset_ns_(offset_ns) {}
@@ -90,21 +98,21 @@ class BagWriter {
           T copy = x;
           copy.header = shifted;
           if constexpr (std::is_same_v<T, ImuSample>) {
-            return Put(topic, time, ros1::ImuToRos(copy, id));
+            return Put(bag_, topic, time, ros1::ImuToRos(copy, id));
           } else if constexpr (std::is_same_v<T, GnssFix>) {
-            return Put(topic, time, ros1::GnssFixToRos(copy, id));
+            return Put(bag_, topic, time, ros1::GnssFixToRos(copy, id));
           } else if constexpr (std::is_same_v<T, WheelSpeeds>) {
-            return Put(topic, time,
+            return Put(bag_, topic, time,
                        ros1::WheelsToRos(copy, {id + "_fl", id + "_fr", id + "_rl", id + "_rr"},
                                          id));
           } else if constexpr (std::is_same_v<T, VehicleSpeed>) {
-            return Put(topic, time, ros1::SpeedToRos(copy, id));
+            return Put(bag_, topic, time, ros1::SpeedToRos(copy, id));
           } else if constexpr (std::is_same_v<T, SteeringAngle>) {
-            return Put(topic, time, ros1::SteeringToRos(copy, id, id));
+            return Put(bag_, topic, time, ros1::SteeringToRos(copy, id, id));
           } else if constexpr (std::is_same_v<T, LidarScan>) {
-            return Put(topic, time, ros1::PointsToRos(copy, id));
+            return Put(bag_, topic, time, ros1::PointsToRos(copy, id));
           } else if constexpr (std::is_same_v<T, BodyVelocity>) {
-            return Put(topic, time, ros1::BodyVelocityToRos(copy, id));
+            return Put(bag_, topic, time, ros1::BodyVelocityToRos(copy, id));
           } else {
             static_assert(std::is_same_v<T, DualAntennaHeading>);
             return std::string();  // KindOf() keeps these out
@@ -114,12 +122,6 @@ class BagWriter {
   }
 
  private:
-  template <typename Msg>
-  std::string Put(const std::string& topic, const ros::Time& time, const Msg& msg) {
-    bag_.write(topic, time, msg);
-    return ros::message_traits::datatype(msg);
-  }
-
   rosbag::Bag& bag_;
   TimeNs offset_ns_;
 };
