@@ -30,7 +30,8 @@ inline std::unique_ptr<rosbag::Bag> OpenBagForReading(const std::filesystem::pat
   try {
     bag->open(path.string(), rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {
-    throw InputError(path.string() + ": not a readable ROS1 bag: " + e.what());
+    throw InputError(path.string() + ": not a readable ROS1 bag: " + e.what() +
+                     " (a recording cut short has no index: `rosbag reindex` repairs it)");
   }
   return bag;
 }
