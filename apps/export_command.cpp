@@ -29,14 +29,13 @@ constexpr const char* kUsage =
 }  // namespace
 
 int RunExport(const std::vector<std::string>& argv) {
-  const auto parsed =
-      ParseCommand({"export",
-                    kUsage,
-                    {"quiet"},
-                    {"out", "topics-out", "time-offset-s", "base-frame"},
-                    2,
-                    {"out"}},
-                   argv);
+  const auto parsed = ParseCommand({"export",
+                                    kUsage,
+                                    {"quiet"},
+                                    {"out", "topics-out", "time-offset-s", "base-frame"},
+                                    2,
+                                    {"out"}},
+                                   argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
   try {

@@ -41,9 +41,10 @@ int ListTopics(const std::filesystem::path& bag) {
     std::printf("#   %-28s %-42s %9zu %7.1f Hz  %s\n", t.topic.c_str(), t.datatype.c_str(),
                 t.messages, t.rate_hz, t.frame_id.c_str());
   }
-  std::printf("#\n# Save this as MAP.yaml, check it, then:\n"
-              "#   statebench import rosbag %s --topics MAP.yaml --out LOG\n",
-              bag.string().c_str());
+  std::printf(
+      "#\n# Save this as MAP.yaml, check it, then:\n"
+      "#   statebench import rosbag %s --topics MAP.yaml --out LOG\n",
+      bag.string().c_str());
   std::printf("%s", sensors::SuggestTopicMap(summary).c_str());
   return 0;
 }
@@ -52,8 +53,8 @@ void PrintStream(const sensors::RosbagImportStream& s) {
   std::printf("  %-16s %-16s %-24s %8zu", s.id.c_str(),
               std::string(sensors::RosTopicKindName(s.kind)).c_str(), s.topic.c_str(), s.count);
   if (s.count > 1 && s.last_stamp_ns > s.first_stamp_ns) {
-    std::printf(" %7.1f Hz", static_cast<double>(s.count - 1) /
-                                 ToSeconds(s.last_stamp_ns - s.first_stamp_ns));
+    std::printf(" %7.1f Hz",
+                static_cast<double>(s.count - 1) / ToSeconds(s.last_stamp_ns - s.first_stamp_ns));
   }
   std::printf("  frame '%s'", s.frame_id.c_str());
   if (s.latency_s) std::printf(", latency %.3f s", *s.latency_s);
@@ -74,8 +75,8 @@ void PrintStream(const sensors::RosbagImportStream& s) {
 }  // namespace
 
 int RunImport(const std::vector<std::string>& argv) {
-  const auto parsed = ParseCommand(
-      {"import", kUsage, {"quiet"}, {"topics", "out", "time-offset-s"}, 2, {}}, argv);
+  const auto parsed =
+      ParseCommand({"import", kUsage, {"quiet"}, {"topics", "out", "time-offset-s"}, 2, {}}, argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
   try {

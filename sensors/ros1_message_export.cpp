@@ -76,7 +76,7 @@ sensor_msgs::NavSatFix GnssFixToRos(const GnssFix& m, const std::string& frame_i
 }
 
 geometry_msgs::TwistWithCovarianceStamped BodyVelocityToRos(const BodyVelocity& m,
-                                                           const std::string& frame_id) {
+                                                            const std::string& frame_id) {
   geometry_msgs::TwistWithCovarianceStamped msg;
   msg.header = RosHeader(m.header, frame_id);
   msg.twist.twist.linear = RosVector(m.velocity);

@@ -33,8 +33,8 @@ Mat6 TwistCovariance(const boost::array<double, 36>& c, const RosTopicEntry& ent
   }
   for (int i = 0; i < 6; ++i) {
     if (cov(i, i) < 0.0) {
-      throw InputError("twist covariance diagonal element " + std::to_string(i) +
-                       " is negative (" + std::to_string(cov(i, i)) + ")");
+      throw InputError("twist covariance diagonal element " + std::to_string(i) + " is negative (" +
+                       std::to_string(cov(i, i)) + ")");
     }
   }
   return cov;
@@ -71,8 +71,8 @@ ImuSample ImuFromRos(const sensor_msgs::Imu& msg) {
 std::optional<GnssFix> GnssFixFromRos(const sensor_msgs::NavSatFix& msg,
                                       const RosTopicEntry& entry) {
   using Status = sensor_msgs::NavSatStatus;
-  const bool finite = std::isfinite(msg.latitude) && std::isfinite(msg.longitude) &&
-                      std::isfinite(msg.altitude);
+  const bool finite =
+      std::isfinite(msg.latitude) && std::isfinite(msg.longitude) && std::isfinite(msg.altitude);
   GnssFix f;
   switch (msg.status.status) {
     case Status::STATUS_NO_FIX:
@@ -144,7 +144,8 @@ BodyVelocity BodyVelocityFromRos(const geometry_msgs::Twist& twist, const RosTop
   b.velocity = FiniteVector(twist.linear, "twist.linear");
   b.angular_velocity = FiniteVector(twist.angular, "twist.angular");
   if (!entry.twist_sigma) {
-    throw InputError("a twist without covariance: give twist_sigma for this topic in the topic map");
+    throw InputError(
+        "a twist without covariance: give twist_sigma for this topic in the topic map");
   }
   b.covariance = entry.twist_sigma->cwiseAbs2().asDiagonal();
   return b;

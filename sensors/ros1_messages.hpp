@@ -75,7 +75,7 @@ ros::Time RosTime(TimeNs t_ns);
 sensor_msgs::Imu ImuToRos(const ImuSample& m, const std::string& frame_id);
 sensor_msgs::NavSatFix GnssFixToRos(const GnssFix& m, const std::string& frame_id);
 geometry_msgs::TwistWithCovarianceStamped BodyVelocityToRos(const BodyVelocity& m,
-                                                           const std::string& frame_id);
+                                                            const std::string& frame_id);
 geometry_msgs::TwistStamped SpeedToRos(const VehicleSpeed& m, const std::string& frame_id);
 // JointStates carry the sensor's frame too (empty in most drivers), so that its mount survives.
 sensor_msgs::JointState SteeringToRos(const SteeringAngle& m, const std::string& joint,

@@ -107,8 +107,7 @@ void CheckLayout(const sensor_msgs::PointCloud2& msg) {
   const std::uint64_t row_bytes = std::uint64_t{msg.width} * msg.point_step;
   if (msg.row_step < row_bytes) {
     throw InputError("row_step " + std::to_string(msg.row_step) + " is less than width " +
-                     std::to_string(msg.width) + " x point_step " +
-                     std::to_string(msg.point_step));
+                     std::to_string(msg.width) + " x point_step " + std::to_string(msg.point_step));
   }
   const std::uint64_t needed = std::uint64_t{msg.height} * msg.row_step;
   if (msg.data.size() < needed) {
@@ -222,9 +221,9 @@ sensor_msgs::PointCloud2 PointsToRos(const LidarScan& m, const std::string& fram
     f.count = 1;
     return f;
   };
-  msg.fields = {field("x", 0, PointField::FLOAT32),         field("y", 4, PointField::FLOAT32),
-                field("z", 8, PointField::FLOAT32),         field("intensity", 12, PointField::FLOAT32),
-                field("t", 16, PointField::FLOAT32),        field("ring", 20, PointField::UINT16)};
+  msg.fields = {field("x", 0, PointField::FLOAT32),  field("y", 4, PointField::FLOAT32),
+                field("z", 8, PointField::FLOAT32),  field("intensity", 12, PointField::FLOAT32),
+                field("t", 16, PointField::FLOAT32), field("ring", 20, PointField::UINT16)};
   msg.point_step = 22;
   msg.height = 1;
   msg.width = static_cast<std::uint32_t>(n);

@@ -72,8 +72,7 @@ void WriteStaticTransforms(rosbag::Bag& bag, const std::vector<SensorMount>& mou
 
 // Writes the message; returns its datatype.
 template <typename Msg>
-std::string Put(rosbag::Bag& bag, const std::string& topic, const ros::Time& time,
-                const Msg& msg) {
+std::string Put(rosbag::Bag& bag, const std::string& topic, const ros::Time& time, const Msg& msg) {
   bag.write(topic, time, msg);
   return ros::message_traits::datatype(msg);
 }
@@ -88,8 +87,9 @@ class BagWriter {
     MeasurementHeader shifted{h.sensor_id, h.stamp_ns + offset_ns_, h.arrival_ns + offset_ns_};
     const ros::Time time = ros1::RosTime(shifted.arrival_ns);
     if (time < ros::TIME_MIN) {
-      throw InputError("arrival 0 ns cannot be a ROS1 bag time (the earliest is 1 ns): give a "
-                       "time offset");
+      throw InputError(
+          "arrival 0 ns cannot be a ROS1 bag time (the earliest is 1 ns): give a "
+          "time offset");
     }
     const std::string& id = h.sensor_id;
     return std::visit(
@@ -102,9 +102,9 @@ class BagWriter {
           } else if constexpr (std::is_same_v<T, GnssFix>) {
             return Put(bag_, topic, time, ros1::GnssFixToRos(copy, id));
           } else if constexpr (std::is_same_v<T, WheelSpeeds>) {
-            return Put(bag_, topic, time,
-                       ros1::WheelsToRos(copy, {id + "_fl", id + "_fr", id + "_rl", id + "_rr"},
-                                         id));
+            return Put(
+                bag_, topic, time,
+                ros1::WheelsToRos(copy, {id + "_fl", id + "_fr", id + "_rl", id + "_rr"}, id));
           } else if constexpr (std::is_same_v<T, VehicleSpeed>) {
             return Put(bag_, topic, time, ros1::SpeedToRos(copy, id));
           } else if constexpr (std::is_same_v<T, SteeringAngle>) {
@@ -152,7 +152,7 @@ RosbagExportResult ExportRosbag(const fs::path& log_dir, const fs::path& bag_pat
   }
   BagWriter writer(bag, options.time_offset_ns);
   std::map<std::string, std::size_t> stream_of;  // sensor id -> index in result.streams
-  std::string current;                            // the measurement being written, for errors
+  std::string current;                           // the measurement being written, for errors
   try {
     std::optional<Measurement> m = reader.Next();
     if (!mounts.empty()) {

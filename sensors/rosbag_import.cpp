@@ -24,7 +24,7 @@ struct Converted {
   TimeNs stamp_ns = 0;
   // The latency is counted after this (a lidar sweep's last point); nullopt: an empty sweep.
   std::optional<TimeNs> last_point_ns;
-  std::size_t skipped = 0;   // lidar points
+  std::size_t skipped = 0;  // lidar points
   std::string time_field;
 };
 
@@ -205,8 +205,8 @@ std::string SetupYaml(const RosTopicMap& map, const std::vector<Stream>& streams
     mount.type = std::string(RosTopicKindName(s.entry->kind));
     mount.id = s.entry->id;
     mount.latency_s = s.stats.latency_s;
-    mount.comment = "topic " + s.stats.topic + " (" + s.stats.datatype + "), frame '" +
-                    s.stats.frame_id + "'";
+    mount.comment =
+        "topic " + s.stats.topic + " (" + s.stats.datatype + "), frame '" + s.stats.frame_id + "'";
     if (s.entry->T_body_sensor) {
       mount.T_body_sensor = *s.entry->T_body_sensor;
     } else if (const auto T = tree.Lookup(map.base_frame, s.stats.frame_id)) {
@@ -215,7 +215,8 @@ std::string SetupYaml(const RosTopicMap& map, const std::vector<Stream>& streams
       if (!*missing) {
         *missing = "topic '" + s.stats.topic + "' (sensor '" + s.entry->id +
                    "'): no static transform connects the base frame '" + map.base_frame +
-                   "' to its frame '" + s.stats.frame_id + "' (in " + std::string(ros1::kTfStaticTopic) +
+                   "' to its frame '" + s.stats.frame_id + "' (in " +
+                   std::string(ros1::kTfStaticTopic) +
                    " or the topic map's static_transforms); give T_body_sensor for the topic";
       }
       continue;
@@ -235,9 +236,9 @@ std::string SetupYaml(const RosTopicMap& map, const std::vector<Stream>& streams
 
 std::string ros1::FrameOfMessage(const rosbag::MessageInstance& m) {
   const std::string& type = m.getDataType();
-  for (const RosTopicKind kind : {RosTopicKind::kImu, RosTopicKind::kGnss,
-                                  RosTopicKind::kBodyVelocity, RosTopicKind::kSteeringEncoder,
-                                  RosTopicKind::kLidar}) {
+  for (const RosTopicKind kind :
+       {RosTopicKind::kImu, RosTopicKind::kGnss, RosTopicKind::kBodyVelocity,
+        RosTopicKind::kSteeringEncoder, RosTopicKind::kLidar}) {
     if (!RosbagImportAccepts(kind, type)) continue;
     RosTopicEntry entry;  // options that let any decodable message convert
     entry.kind = kind;

@@ -54,7 +54,7 @@ struct RosbagImportStream {
   std::string datatype;
   std::string id;
   RosTopicKind kind = RosTopicKind::kImu;
-  std::string frame_id;  // the messages' (or the map's), whose mount went into setup.yaml
+  std::string frame_id;   // the messages' (or the map's), whose mount went into setup.yaml
   std::size_t count = 0;  // measurements written
   // Messages or points left out: NO_FIX messages without a position, JointStates naming none of
   // the entry's joints, non-finite lidar points.

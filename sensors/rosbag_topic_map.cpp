@@ -49,8 +49,8 @@ std::vector<std::string_view> KindKeys(RosTopicKind kind) {
   }
 }
 
-constexpr std::array<std::string_view, 6> kCommonKeys = {"topic", "id", "type", "frame_id",
-                                                         "T_body_sensor", "latency_s"};
+constexpr std::array<std::string_view, 6> kCommonKeys = {
+    "topic", "id", "type", "frame_id", "T_body_sensor", "latency_s"};
 
 void CheckKeys(const YamlNode& entry, RosTopicKind kind) {
   const std::vector<std::string_view> own = KindKeys(kind);
@@ -64,8 +64,8 @@ void CheckKeys(const YamlNode& entry, RosTopicKind kind) {
       for (std::string_view option : KindKeys(k)) other_kind = other_kind || option == key;
     }
     if (other_kind) {
-      entry[key].Fail("not an option of a topic of type '" +
-                      std::string(RosTopicKindName(kind)) + "'");
+      entry[key].Fail("not an option of a topic of type '" + std::string(RosTopicKindName(kind)) +
+                      "'");
     }
     entry[key].Fail("unknown field");
   }

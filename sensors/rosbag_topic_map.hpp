@@ -20,10 +20,10 @@ namespace statebench::sensors {
 
 // What a topic becomes; named as the sensor-setup types (docs/sensor-setup.md).
 enum class RosTopicKind {
-  kImu,              // sensor_msgs/Imu -> imu/<id>.csv
-  kGnss,             // sensor_msgs/NavSatFix -> gnss/<id>.csv
-  kBodyVelocity,     // nav_msgs/Odometry, geometry_msgs/Twist(WithCovariance)Stamped -> body_velocity
-  kSpeedEncoder,     // the same twists' linear.x -> speed/<id>.csv
+  kImu,           // sensor_msgs/Imu -> imu/<id>.csv
+  kGnss,          // sensor_msgs/NavSatFix -> gnss/<id>.csv
+  kBodyVelocity,  // nav_msgs/Odometry, geometry_msgs/Twist(WithCovariance)Stamped -> body_velocity
+  kSpeedEncoder,  // the same twists' linear.x -> speed/<id>.csv
   kSteeringEncoder,  // sensor_msgs/JointState position of one joint -> steering/<id>.csv
   kWheelEncoders,    // sensor_msgs/JointState velocity of four joints -> wheels/<id>.csv
   kLidar,            // sensor_msgs/PointCloud2 -> lidar/<id>.csv + one PCD per sweep
@@ -40,12 +40,13 @@ struct RosTopicEntry {
   std::optional<SE3> T_body_sensor;      // instead of the static transforms
   std::optional<double> latency_s;       // instead of the largest receive - stamp delay
   std::optional<Vec3> position_sigma_m;  // gnss: replaces the fixes' covariance (east, north, up)
-  std::optional<Vec6> twist_sigma;       // body_velocity: replaces the twist covariance (m/s, rad/s)
-  std::string joint;                     // steering_encoder: joint name (default: the id)
-  std::array<std::string, 4> joints;     // wheel_encoders: FL FR RL RR (default: <id>_fl ...)
-  std::optional<std::string> time_field;  // lidar: per-point time field (default t, time, timestamp)
-  std::optional<double> time_scale_s;     // lidar: seconds per unit of the time field
-  std::string where;                      // "file:line:column" of the entry, for messages
+  std::optional<Vec6> twist_sigma;    // body_velocity: replaces the twist covariance (m/s, rad/s)
+  std::string joint;                  // steering_encoder: joint name (default: the id)
+  std::array<std::string, 4> joints;  // wheel_encoders: FL FR RL RR (default: <id>_fl ...)
+  std::optional<std::string>
+      time_field;                      // lidar: per-point time field (default t, time, timestamp)
+  std::optional<double> time_scale_s;  // lidar: seconds per unit of the time field
+  std::string where;                   // "file:line:column" of the entry, for messages
 };
 
 struct RosStaticTransform {
@@ -56,10 +57,10 @@ struct RosStaticTransform {
 };
 
 struct RosTopicMap {
-  std::string source;                 // file it was loaded from
+  std::string source;                    // file it was loaded from
   std::string base_frame = "base_link";  // the body frame of setup.yaml (REP-105 base_link)
-  std::string scenario;               // log.yaml's scenario text (default: the bag's file name)
-  std::optional<GeodeticPoint> origin;  // log.yaml's WGS84 anchor
+  std::string scenario;                  // log.yaml's scenario text (default: the bag's file name)
+  std::optional<GeodeticPoint> origin;   // log.yaml's WGS84 anchor
   std::vector<RosTopicEntry> topics;
   std::vector<RosStaticTransform> static_transforms;  // added to (and overriding) /tf_static
 };

@@ -41,8 +41,7 @@ std::string Describe(const RosbagTopicInfo& t) {
   std::snprintf(rate, sizeof(rate), "%.1f Hz", t.rate_hz);
   std::string out = t.datatype + ", " + std::to_string(t.messages) + " messages, " + rate;
   if (!t.frame_id.empty()) {
-    out += (t.datatype == "nav_msgs/Odometry" ? ", child frame '" : ", frame '") + t.frame_id +
-           "'";
+    out += (t.datatype == "nav_msgs/Odometry" ? ", child frame '" : ", frame '") + t.frame_id + "'";
   }
   return out;
 }
@@ -64,7 +63,8 @@ std::string SuggestTopicMap(const RosbagSummary& summary) {
     }
     y += "\n";
   }
-  y += "# origin: {latitude_deg: 0.0, longitude_deg: 0.0, altitude_m: 0.0}  # WGS84 anchor of ENU\n";
+  y +=
+      "# origin: {latitude_deg: 0.0, longitude_deg: 0.0, altitude_m: 0.0}  # WGS84 anchor of ENU\n";
   y += "topics:\n";
   std::set<std::string> taken;
   std::string others;
@@ -92,8 +92,9 @@ std::string SuggestTopicMap(const RosbagSummary& summary) {
            "set your odometry's sigmas (m/s, rad/s)\n";
     }
     if (joints) {
-      y += "  #   joints: [\"front_left\", \"front_right\", \"rear_left\", \"rear_right\"]  # wheel "
-           "joints; or type: steering_encoder, joint: NAME\n";
+      y +=
+          "  #   joints: [\"front_left\", \"front_right\", \"rear_left\", \"rear_right\"]  # wheel "
+          "joints; or type: steering_encoder, joint: NAME\n";
     }
   }
   if (!others.empty()) y += "# Not imported (no conversion for these types):\n" + others;

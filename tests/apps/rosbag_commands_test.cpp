@@ -73,10 +73,11 @@ TEST(RosbagCommands, Setup2LogThroughABagGivesTheSameMeasurementsAndEstimates) {
   TempDir tmp;
   const fs::path& d = tmp.path();
   const fs::path out = d / "out.txt";
-  ASSERT_EQ(Statebench("record scenarios/paper/setup2_quadricycle.yaml --duration 5 --quiet --out " +
-                           (d / "log").string(),
-                       out),
-            0)
+  ASSERT_EQ(
+      Statebench("record scenarios/paper/setup2_quadricycle.yaml --duration 5 --quiet --out " +
+                     (d / "log").string(),
+                 out),
+      0)
       << Text(out);
   ASSERT_EQ(Statebench("export rosbag " + (d / "log").string() + " --out " +
                            (d / "log.bag").string() + " --topics-out " + (d / "map.yaml").string(),

@@ -55,8 +55,8 @@ TEST(RosbagBadInput, NotABag) {
   b.WriteMap("topics:\n  - {topic: /imu, id: imu, type: imu}\n");
   const std::string e = ThrownBy([&] { SummarizeRosbag(b.dir() / "text.bag"); });
   EXPECT_NE(e.find("text.bag: not a readable ROS1 bag"), std::string::npos) << e;
-  const std::string missing = ThrownBy(
-      [&] { ImportRosbag(b.dir() / "missing.bag", LoadRosTopicMap(b.map()), b.log()); });
+  const std::string missing =
+      ThrownBy([&] { ImportRosbag(b.dir() / "missing.bag", LoadRosTopicMap(b.map()), b.log()); });
   EXPECT_NE(missing.find("missing.bag: no such bag file"), std::string::npos) << missing;
   EXPECT_FALSE(std::filesystem::exists(b.log()));
 }
@@ -68,8 +68,9 @@ TEST(RosbagBadInput, MapProblemsNameTheMapLineBeforeWritingAnything) {
     b.WriteMap(yaml);
     return ThrownBy([&] { ImportRosbag(b.bag(), LoadRosTopicMap(b.map()), b.log()); });
   };
-  std::string e = import_with("topics:\n  - {topic: /imu, id: imu, type: imu}\n"
-                              "  - {topic: /gps/fix, id: gnss, type: gnss}\n");
+  std::string e = import_with(
+      "topics:\n  - {topic: /imu, id: imu, type: imu}\n"
+      "  - {topic: /gps/fix, id: gnss, type: gnss}\n");
   EXPECT_NE(e.find("map.yaml:3:5: topic '/gps/fix' is not in"), std::string::npos) << e;
   EXPECT_NE(e.find("(its topics: /imu, /tf_static)"), std::string::npos) << e;
   e = import_with("topics:\n  - {topic: /imu, id: imu, type: lidar}\n");
@@ -77,7 +78,8 @@ TEST(RosbagBadInput, MapProblemsNameTheMapLineBeforeWritingAnything) {
                    "become a sensor of type 'lidar'"),
             std::string::npos)
       << e;
-  e = import_with("topics:\n  - {topic: /imu, id: imu, type: imu, twist_sigma: [1, 1, 1, 1, 1, 1]}\n");
+  e = import_with(
+      "topics:\n  - {topic: /imu, id: imu, type: imu, twist_sigma: [1, 1, 1, 1, 1, 1]}\n");
   EXPECT_NE(e.find("field 'topics[0].twist_sigma': not an option of a topic of type 'imu'"),
             std::string::npos)
       << e;
@@ -87,8 +89,9 @@ TEST(RosbagBadInput, MapProblemsNameTheMapLineBeforeWritingAnything) {
       << e;
   e = import_with("topics:\n  - {topic: /imu, id: imu, type: radar}\n");
   EXPECT_NE(e.find("unknown type 'radar'"), std::string::npos) << e;
-  e = import_with("topics:\n  - {topic: /imu, id: imu, type: imu}\n  - {topic: /imu, id: imu, "
-                  "type: imu}\n");
+  e = import_with(
+      "topics:\n  - {topic: /imu, id: imu, type: imu}\n  - {topic: /imu, id: imu, "
+      "type: imu}\n");
   EXPECT_NE(e.find("field 'topics[1].id': duplicate sensor id 'imu'"), std::string::npos) << e;
   e = import_with("topic:\n  - {topic: /imu, id: imu, type: imu}\n");
   EXPECT_NE(e.find("field 'topic': unknown field"), std::string::npos) << e;

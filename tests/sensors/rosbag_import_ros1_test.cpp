@@ -53,8 +53,9 @@ TEST(RosbagImport, ConvertsEveryMessageTypeWithItsMountAndLatency) {
     fix.latitude = k == 0 ? std::numeric_limits<double>::quiet_NaN() : 48.0 + 1e-6 * k;
     fix.longitude = 2.0;
     fix.altitude = 130.0;
-    fix.position_covariance = {variances[k], 0.1 * variances[k], 0, 0.1 * variances[k],
-                               variances[k], 0, 0, 0, 4 * variances[k]};
+    fix.position_covariance = {
+        variances[k],    0.1 * variances[k], 0, 0.1 * variances[k], variances[k], 0, 0, 0,
+        4 * variances[k]};
     fix.position_covariance_type = sensor_msgs::NavSatFix::COVARIANCE_TYPE_APPROXIMATED;
     b.Write("/fix", t + 100 * kMs, fix);
 

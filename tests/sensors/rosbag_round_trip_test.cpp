@@ -188,9 +188,8 @@ TEST(RosbagRoundTrip, TimeOffsetAndItsOppositeCancel) {
   const RosbagImportResult imported =
       ImportRosbag(dir.path() / "log.bag", exported.topic_map, dir.path() / "back", in_options);
   ASSERT_FALSE(imported.error.has_value()) << *imported.error;
-  std::erase_if(written, [](const Measurement& m) {
-    return std::holds_alternative<DualAntennaHeading>(m);
-  });
+  std::erase_if(written,
+                [](const Measurement& m) { return std::holds_alternative<DualAntennaHeading>(m); });
   const std::vector<Measurement> back = ReadAll(dir.path() / "back");
   ASSERT_EQ(back.size(), written.size());
   for (std::size_t i = 0; i < back.size(); ++i) {

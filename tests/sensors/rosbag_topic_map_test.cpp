@@ -1,9 +1,10 @@
 // The topic map of a bag import: written and read back unchanged; the static-transform tree that
 // turns /tf_static into mounts.
+#include "sensors/rosbag_topic_map.hpp"
+
 #include <gtest/gtest.h>
 
 #include "core/yaml_node.hpp"
-#include "sensors/rosbag_topic_map.hpp"
 #include "sensors/static_transform_tree.hpp"
 
 namespace statebench::sensors {
@@ -53,7 +54,8 @@ TEST(RosTopicMap, WritesAndReadsBackEveryField) {
   ASSERT_EQ(back.topics.size(), 6u);
   EXPECT_EQ(back.topics[0].frame_id, "imu_link");
   EXPECT_EQ(back.topics[0].T_body_sensor->translation(), Vec3(0.1, 0.2, 0.3));
-  EXPECT_EQ(back.topics[0].T_body_sensor->rotation().coeffs(), imu.T_body_sensor->rotation().coeffs());
+  EXPECT_EQ(back.topics[0].T_body_sensor->rotation().coeffs(),
+            imu.T_body_sensor->rotation().coeffs());
   EXPECT_EQ(back.topics[0].latency_s, 0.003);
   EXPECT_EQ(back.topics[1].position_sigma_m, gnss.position_sigma_m);
   EXPECT_EQ(back.topics[2].twist_sigma, odom.twist_sigma);
@@ -74,7 +76,8 @@ TEST(RosTopicMap, WritesAndReadsBackEveryField) {
       "steering_encoder}]",
       "d.yaml"));
   EXPECT_EQ(defaults.base_frame, "base_link");
-  EXPECT_EQ(defaults.topics[0].joints, (std::array<std::string, 4>{"w_fl", "w_fr", "w_rl", "w_rr"}));
+  EXPECT_EQ(defaults.topics[0].joints,
+            (std::array<std::string, 4>{"w_fl", "w_fr", "w_rl", "w_rr"}));
   EXPECT_EQ(defaults.topics[1].joint, "s");
 }
 
