@@ -90,6 +90,7 @@ int RunEstimate(const std::vector<std::string>& argv) {
              args->Flag("full-covariance"));
     if (!truth.empty()) {
       feed.ScoreAgainstTruth(setup.T_body_imu, {});
+      feed.WriteDetails(out_dir);
       for (const TruthSample& s : truth) feed.AddTruth(s);
       truth.clear();
       truth.shrink_to_fit();

@@ -28,6 +28,29 @@ void EstimatorFeed::ScoreAgainstTruth(const SE3& T_body_frame,
   scorer_.emplace(estimators_.size(), T_body_frame, options);
 }
 
+void EstimatorFeed::WriteDetails(const std::filesystem::path& run_dir) {
+  std::vector<std::filesystem::path> dirs;
+  for (const FedEstimator& f : estimators_) dirs.push_back(f.dir);
+  details_ = std::make_unique<RunDetailsWriter>(run_dir, dirs, imu_id_, frame_);
+  RunDetailsWriter* details = details_.get();
+  for (std::size_t k = 0; k < estimators_.size(); ++k) {
+    estimators_[k].estimator->SetVerdictObserver(
+        [details, k](const std::string& id, TimeNs stamp_ns,
+                     std::optional<est::RejectReason> rejected) {
+          const StageScope writing(Stage::kWriting);
+          details->Verdict(k, id, stamp_ns, rejected);
+        });
+  }
+  if (scorer_) {
+    scorer_->SetEpochObserver([details](const reports::ReferenceState& reference,
+                                        const std::vector<std::optional<reports::EpochErrors>>&
+                                            errors) {
+      const StageScope writing(Stage::kWriting);
+      details->Epoch(reference, errors);
+    });
+  }
+}
+
 void EstimatorFeed::AddTruth(const TruthSample& sample) {
   if (!scorer_) return;
   const StageScope stage(Stage::kScoring);
@@ -38,6 +61,10 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
   const StageScope stage(Stage::kEstimators);
   const auto* imu = std::get_if<ImuSample>(&m);
   const bool output = imu != nullptr && imu->header.sensor_id == imu_id_;
+  if (details_ && imu == nullptr) {
+    const StageScope writing(Stage::kWriting);
+    details_->Measurement(m);
+  }
   epoch_.assign(estimators_.size(), std::nullopt);
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     FedEstimator& f = estimators_[k];
@@ -70,6 +97,10 @@ std::vector<EstimatorScore> EstimatorFeed::Finish() {
   const StageScope stage(Stage::kScoring);
   std::vector<reports::RunScore> run_scores;
   if (scorer_) run_scores = scorer_->Finish();
+  if (details_) {
+    const StageScope writing(Stage::kWriting);
+    details_->Close();
+  }
   std::vector<EstimatorScore> scores;
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     FedEstimator& f = estimators_[k];

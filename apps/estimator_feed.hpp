@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "apps/progress_bar.hpp"
+#include "apps/run_details_writer.hpp"
 #include "core/geodetic.hpp"
 #include "core/stage_profile.hpp"
 #include "estimator/estimator.hpp"
@@ -59,6 +60,10 @@ class EstimatorFeed {
   // the RMSE and APE inside each outage window besides. Call after the last Add and before the
   // first Feed; without it there are no metrics but availability.
   void ScoreAgainstTruth(const SE3& T_body_frame, std::vector<reports::OutageWindow> outages);
+  // Writes the run's details beside the estimates (apps/run_details_writer.hpp): reference and
+  // GNSS fixes into run_dir, each estimator's errors and verdicts into its folder. Call after
+  // the last Add (and after ScoreAgainstTruth, without which there are no errors).
+  void WriteDetails(const std::filesystem::path& run_dir);
   // A truth sample (stamps increasing; ahead of the measurements or behind them).
   void AddTruth(const TruthSample& sample);
 
@@ -76,6 +81,7 @@ class EstimatorFeed {
   std::optional<LocalEnuFrame> frame_;
   std::vector<FedEstimator> estimators_;
   std::optional<reports::RunScorer> scorer_;
+  std::unique_ptr<RunDetailsWriter> details_;
   std::vector<reports::OutageWindow> outages_;
   std::vector<std::optional<StateEstimate>> epoch_;  // this epoch's estimates, reused
   std::size_t imu_stamps_ = 0;  // output stamps offered to every estimator

@@ -116,6 +116,7 @@ int RunRun(const std::vector<std::string>& argv) {
     if (cache) run_options.cache = {cache.get(), BuildIdentity()};
     sim::SensorRun run(scenario, out_dir, run_options);
     feed.ScoreAgainstTruth(setup.T_body_imu, ScoredOutages(run.sensors(), run.truth().end_ns()));
+    feed.WriteDetails(out_dir);
     run.SetTruthObserver([&feed](const TruthSample& s) { feed.AddTruth(s); });
     const double end_s = ToSeconds(run.truth().end_ns());
     FeedProgress progress("run " + scenario.name, end_s, quiet);

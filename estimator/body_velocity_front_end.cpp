@@ -15,7 +15,7 @@ Claim BodyVelocityFrontEnd::Claims(const Measurement& m) const {
 void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
   const BodyVelocity& v = std::get<BodyVelocity>(measurement);
   const std::string& id = v.header.sensor_id;
-  if (!ctx_.initialized) return ctx_.Reject(id, RejectReason::kNotInitialized);
+  if (!ctx_.initialized) return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
   const EstimatorSensor& sensor = *setup_.Find(id);
   BodyVelocityMeasurement m;
   m.v_frame = v.velocity;
@@ -28,10 +28,10 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
       information[i] = 1.0 / std::max(std::sqrt(variance), kMinSigmaMps);
     }
   }
-  if (information.isZero()) return ctx_.Reject(id, RejectReason::kInvalidCovariance);
+  if (information.isZero()) return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kInvalidCovariance);
   m.sqrt_information = information.asDiagonal();
   if (ctx_.smoother.AddBodyVelocity(v.header.stamp_ns, m, RobustKernel{}) == AddResult::kTooOld) {
-    return ctx_.Reject(id, RejectReason::kTooOld);
+    return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kTooOld);
   }
   ctx_.Accept(id, v.header.stamp_ns);
   ctx_.Count(id, "body_velocity_factors");

@@ -96,8 +96,13 @@ struct EkfSingleTrackEstimator::Impl {
 
   Impl(const EstimatorSensorSetup& s, const EkfOptions& o);
 
-  void Reject(const std::string& id, RejectReason reason) { ++diag.sensors[id].rejected[reason]; }
-  void Accept(const std::string& id, TimeNs stamp_ns) { diag.sensors[id].Accept(stamp_ns); }
+  VerdictObserver verdicts;  // optional (Estimator::SetVerdictObserver)
+  void Reject(const std::string& id, TimeNs stamp_ns, RejectReason reason) {
+    diag.Verdict(id, stamp_ns, reason, verdicts);
+  }
+  void Accept(const std::string& id, TimeNs stamp_ns) {
+    diag.Verdict(id, stamp_ns, std::nullopt, verdicts);
+  }
 
   // ---- process model -------------------------------------------------------------------------
 

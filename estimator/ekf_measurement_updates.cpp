@@ -61,7 +61,7 @@ void EkfSingleTrackEstimator::Impl::UpdateSpeed(const std::string& id, const Sen
   const auto last = last_accepted_speed_ns.find(id);
   if (!Gate(Mahalanobis<1>(y, H, R), options.speed_gate_chi2, m.header.stamp_ns,
             last == last_accepted_speed_ns.end() ? initialized_ns : last->second)) {
-    Reject(id, RejectReason::kMahalanobisGate);
+    Reject(id, m.header.stamp_ns, RejectReason::kMahalanobisGate);
     return;
   }
   Update<1>(y, H, R);
@@ -79,7 +79,7 @@ void EkfSingleTrackEstimator::Impl::UpdateHeading(const std::string& id, const S
   const auto last = last_accepted_heading_ns.find(id);
   if (!Gate(Mahalanobis<1>(y, H, R), options.heading_gate_chi2, m.header.stamp_ns,
             last == last_accepted_heading_ns.end() ? initialized_ns : last->second)) {
-    Reject(id, RejectReason::kMahalanobisGate);
+    Reject(id, m.header.stamp_ns, RejectReason::kMahalanobisGate);
     return;
   }
   Update<1>(y, H, R);
@@ -113,13 +113,13 @@ void EkfSingleTrackEstimator::Impl::UpdateGnss(const std::string& id, const Sens
   if (outside) refused.Refused(fix);
   if (!Gate(d2, options.gnss_gate_chi2, fix.header.stamp_ns,
             last == last_accepted_gnss_ns.end() ? initialized_ns : last->second)) {
-    Reject(id, RejectReason::kMahalanobisGate);
+    Reject(id, fix.header.stamp_ns, RejectReason::kMahalanobisGate);
     return;
   }
   // The gate has refused every fix for gate_reset_s and the refused fixes agree with each other:
   // the filter is off, not the receiver.
   if (outside && refused.Agrees()) {
-    Reject(id, RejectReason::kMahalanobisGate);
+    Reject(id, fix.header.stamp_ns, RejectReason::kMahalanobisGate);
     StartOver(id, fix.header.stamp_ns, "lost");
     return;
   }

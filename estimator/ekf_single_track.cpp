@@ -75,12 +75,12 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
     std::string why;
     const auto enu = GnssFixToEnu(*fix, *frame, &why);
     if (!enu) {
-      Reject(id, RejectReason::kAbsurdValue);
+      Reject(id, fix->header.stamp_ns, RejectReason::kAbsurdValue);
       return;
     }
     const Mat3 cov = AdjustedCovariance(enu->covariance, info);
     if (std::sqrt(std::max(0.0, cov.eigenvalues().real().maxCoeff())) > options.gnss_max_sigma_m) {
-      Reject(id, RejectReason::kCovarianceThreshold);
+      Reject(id, fix->header.stamp_ns, RejectReason::kCovarianceThreshold);
       return;
     }
     if (!initialized) {
@@ -98,11 +98,11 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
     UpdateSpeed(id, info, *speed);
   } else if (const auto* heading = std::get_if<DualAntennaHeading>(&m)) {
     if (!initialized) {
-      Reject(id, RejectReason::kNotInitialized);
+      Reject(id, heading->header.stamp_ns, RejectReason::kNotInitialized);
       return;
     }
     if (heading->yaw_sigma_rad > options.heading_max_sigma_rad) {
-      Reject(id, RejectReason::kCovarianceThreshold);
+      Reject(id, heading->header.stamp_ns, RejectReason::kCovarianceThreshold);
       return;
     }
     UpdateHeading(id, info, *heading);
@@ -125,12 +125,12 @@ void EkfSingleTrackEstimator::Impl::ReleasePending(TimeNs up_to_ns) {
 
 void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSample& sample) {
   if (last_imu_ns && sample.header.stamp_ns <= *last_imu_ns) {
-    Reject(id, RejectReason::kStampBackwards);
+    Reject(id, sample.header.stamp_ns, RejectReason::kStampBackwards);
     return;
   }
   if (auto reason = CheckImuSample(sample); reason || (reason = CheckImuLimits(
                                                           sample, options.imu_limits))) {
-    Reject(id, *reason);
+    Reject(id, sample.header.stamp_ns, *reason);
     return;
   }
   Accept(id, sample.header.stamp_ns);
@@ -190,16 +190,16 @@ void EkfSingleTrackEstimator::Impl::Add(const Measurement& m) {
   ++diag.sensors[id].received;
   const auto it = sensors.find(id);
   if (it == sensors.end() || !TypeFits(it->second.role, m)) {
-    Reject(id, RejectReason::kUnknownSensor);
+    Reject(id, header.stamp_ns, RejectReason::kUnknownSensor);
     return;
   }
   const SensorInfo& info = it->second;
   if (info.role == Role::kUnsupported) {
-    Reject(id, RejectReason::kUnsupportedSensor);
+    Reject(id, header.stamp_ns, RejectReason::kUnsupportedSensor);
     return;
   }
   if (header.stamp_ns > header.arrival_ns) {
-    Reject(id, RejectReason::kStampInFuture);
+    Reject(id, header.stamp_ns, RejectReason::kStampInFuture);
     return;
   }
   newest_arrival_ns = std::max(newest_arrival_ns, header.arrival_ns);
@@ -208,16 +208,16 @@ void EkfSingleTrackEstimator::Impl::Add(const Measurement& m) {
     return;
   }
   if (const auto reason = CheckOther(m)) {
-    Reject(id, *reason);
+    Reject(id, header.stamp_ns, *reason);
     return;
   }
   if (const auto last = last_stamp.find(id);
       last != last_stamp.end() && header.stamp_ns <= last->second) {
-    Reject(id, RejectReason::kStampBackwards);
+    Reject(id, header.stamp_ns, RejectReason::kStampBackwards);
     return;
   }
   if (initialized && header.stamp_ns < t_ns - FromSeconds(options.max_delay_s)) {
-    Reject(id, RejectReason::kTooOld);
+    Reject(id, header.stamp_ns, RejectReason::kTooOld);
     return;
   }
   last_stamp[id] = header.stamp_ns;
@@ -260,6 +260,10 @@ std::optional<StateEstimate> EkfSingleTrackEstimator::StateAt(TimeNs t_ns) const
 }
 
 EstimatorDiagnostics EkfSingleTrackEstimator::diagnostics() const { return impl_->diag; }
+
+void EkfSingleTrackEstimator::SetVerdictObserver(VerdictObserver observer) {
+  impl_->verdicts = std::move(observer);
+}
 
 std::optional<GeodeticPoint> EkfSingleTrackEstimator::origin() const {
   if (!impl_->frame) return std::nullopt;

@@ -66,6 +66,7 @@ class EkfSingleTrackEstimator final : public Estimator {
   void Add(const Measurement& measurement) override;
   std::optional<StateEstimate> StateAt(TimeNs t_ns) const override;
   EstimatorDiagnostics diagnostics() const override;
+  void SetVerdictObserver(VerdictObserver observer) override;
 
   // The ENU origin; nullopt until known.
   std::optional<GeodeticPoint> origin() const;

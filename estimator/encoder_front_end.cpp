@@ -46,7 +46,7 @@ bool EncoderFrontEnd::KinematicActive(TimeNs t_ns) const {
 void EncoderFrontEnd::ProcessSteering(const SteeringAngle& a) {
   const std::string& id = a.header.sensor_id;
   if (!kinematic_ || plan_.steering == nullptr || id != plan_.steering->id) {
-    return ctx_.Reject(id, RejectReason::kDisabled);
+    return ctx_.Reject(id, a.header.stamp_ns, RejectReason::kDisabled);
   }
   kinematic_->AddSteering(a.header.stamp_ns, a.angle_rad);
   ctx_.Accept(id, a.header.stamp_ns);
@@ -55,18 +55,18 @@ void EncoderFrontEnd::ProcessSteering(const SteeringAngle& a) {
 void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
   const std::string& id = v.header.sensor_id;
   if (plan_.speed == nullptr || id != plan_.speed->id) {
-    return ctx_.Reject(id, RejectReason::kDisabled);
+    return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kDisabled);
   }
   last_speed_ = {v.header.stamp_ns, v.speed_mps};
   if (encoder_scale_) encoder_scale_->AddSpeed(v.header.stamp_ns, v.speed_mps);
   if (!kinematic_) {
     // Still used to detect standstill for the zero-velocity factor.
     if (options_.zero_velocity.enabled) return ctx_.Accept(id, v.header.stamp_ns);
-    return ctx_.Reject(id, RejectReason::kDisabled);
+    return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kDisabled);
   }
   if (!ctx_.initialized) {
     kinematic_->AddSpeed(v.header.stamp_ns, v.speed_mps);  // keeps the integration going
-    return ctx_.Reject(id, RejectReason::kNotInitialized);
+    return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
   }
   const std::optional<KinematicMotion> motion =
       kinematic_->AddSpeed(v.header.stamp_ns, v.speed_mps);

@@ -31,6 +31,8 @@ class Estimator {
   virtual void Add(const Measurement& measurement) = 0;
   virtual std::optional<StateEstimate> StateAt(TimeNs t_ns) const = 0;
   virtual EstimatorDiagnostics diagnostics() const = 0;
+  // Every verdict on a measurement from now on also goes to `observer` (estimator_diagnostics.hpp).
+  virtual void SetVerdictObserver(VerdictObserver observer) = 0;
 };
 
 }  // namespace statebench::est

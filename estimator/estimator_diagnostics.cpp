@@ -52,6 +52,18 @@ std::uint64_t SensorCounters::TotalRejected() const {
   return n;
 }
 
+void EstimatorDiagnostics::Verdict(const std::string& id, TimeNs t_ns,
+                                   std::optional<RejectReason> reason,
+                                   const VerdictObserver& observer) {
+  SensorCounters& c = sensors[id];
+  if (reason) {
+    ++c.rejected[*reason];
+  } else {
+    c.Accept(t_ns);
+  }
+  if (observer) observer(id, t_ns, reason);
+}
+
 void EstimatorDiagnostics::Initialized(TimeNs t_ns, const std::string& method) {
   if (!initialized) {
     initialized = true;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -35,6 +36,12 @@ enum class RejectReason {
 };
 
 std::string_view RejectReasonName(RejectReason reason);
+
+// Receives every verdict an estimator gives a measurement, when it gives it: the sensor, the
+// measurement's stamp and why it was rejected (nullopt: accepted). `statebench run` writes them
+// per estimator for the run report.
+using VerdictObserver = std::function<void(const std::string& sensor_id, TimeNs stamp_ns,
+                                           std::optional<RejectReason> rejected)>;
 
 struct SensorCounters {
   std::uint64_t received = 0;
@@ -130,6 +137,10 @@ struct EstimatorDiagnostics {
   void Initialized(TimeNs t_ns, const std::string& method);
   // Opens a lost episode.
   void Lost(TimeNs t_ns, const std::string& reason) { lost.push_back({t_ns, reason, {}, {}}); }
+  // Counts the verdict on a measurement of sensor `id` stamped t_ns (reason nullopt: accepted)
+  // and hands it to the observer when there is one.
+  void Verdict(const std::string& id, TimeNs t_ns, std::optional<RejectReason> reason,
+               const VerdictObserver& observer);
   // The stamp of the newest (re-)initialisation, nullopt before the first.
   std::optional<TimeNs> LatestInitializationNs() const;
 };

@@ -62,7 +62,7 @@ struct FactorGraphEstimator::Impl {
       ctx.output.AddImu(std::get<ImuSample>(m));
       Release(intake.Release(ctx.newest_imu_ns));
     } else if (admission == Admission::kLate) {  // no order guarantee: at once
-      if (!ctx.initialized) return ctx.Reject(HeaderOf(m).sensor_id, RejectReason::kNotInitialized);
+      if (!ctx.initialized) return ctx.Reject(HeaderOf(m).sensor_id, HeaderOf(m).stamp_ns, RejectReason::kNotInitialized);
       ProcessStamp({m});
     }
   }
@@ -198,6 +198,10 @@ std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
 }
 
 EstimatorDiagnostics FactorGraphEstimator::diagnostics() const { return impl_->ctx.diag; }
+
+void FactorGraphEstimator::SetVerdictObserver(VerdictObserver observer) {
+  impl_->ctx.verdicts = std::move(observer);
+}
 
 void FactorGraphEstimator::KeepSmoothedStates() { impl_->keep_smoothed = true; }
 

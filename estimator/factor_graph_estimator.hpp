@@ -47,6 +47,7 @@ class FactorGraphEstimator final : public Estimator {
   void Add(const Measurement& measurement) override;
   std::optional<StateEstimate> StateAt(TimeNs t_ns) const override;
   EstimatorDiagnostics diagnostics() const override;
+  void SetVerdictObserver(VerdictObserver observer) override;
 
   // From now on, keep the smoothed states that leave the window (their final estimates) until
   // TakeSmoothedStates takes them; off by default, so that a long run keeps nothing it is not

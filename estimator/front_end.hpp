@@ -71,8 +71,11 @@ class FrontEndContext {
   }
 
   SensorCounters& Counters(const std::string& id) { return diag.sensors[id]; }
-  void Accept(const std::string& id, TimeNs t_ns) { Counters(id).Accept(t_ns); }
-  void Reject(const std::string& id, RejectReason reason) { ++Counters(id).rejected[reason]; }
+  VerdictObserver verdicts;  // optional (Estimator::SetVerdictObserver)
+  void Accept(const std::string& id, TimeNs t_ns) { diag.Verdict(id, t_ns, std::nullopt, verdicts); }
+  void Reject(const std::string& id, TimeNs t_ns, RejectReason reason) {
+    diag.Verdict(id, t_ns, reason, verdicts);
+  }
   void Count(const std::string& id, const std::string& event) { ++Counters(id).events[event]; }
 
  private:

@@ -33,12 +33,12 @@ std::optional<GnssPositionEnu> GnssFrontEnd::ToEnu(const GnssFix& fix) {
   adjusted.covariance_enu =
       AntennaCovariance(*setup_.FindAntenna(fix.header.sensor_id), fix.covariance_enu);
   if (LargestSigma(adjusted.covariance_enu) > options_.gnss.max_sigma) {
-    ctx_.Reject(fix.header.sensor_id, RejectReason::kCovarianceThreshold);
+    ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kCovarianceThreshold);
     return std::nullopt;
   }
   if (!frame_) frame_.emplace(GeodeticPoint{fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
   std::optional<GnssPositionEnu> enu = GnssFixToEnu(adjusted, *frame_);
-  if (!enu) ctx_.Reject(fix.header.sensor_id, RejectReason::kInvalidCovariance);
+  if (!enu) ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kInvalidCovariance);
   return enu;
 }
 
@@ -48,7 +48,7 @@ void GnssFrontEnd::Process(const Measurement& m) {
     if (auto enu = ToEnu(*f)) fixes_[f->header.sensor_id] = *enu;
   } else if (const auto* h = std::get_if<DualAntennaHeading>(&m)) {
     if (h->yaw_sigma_rad > options_.heading.max_sigma) {
-      ctx_.Reject(h->header.sensor_id, RejectReason::kCovarianceThreshold);
+      ctx_.Reject(h->header.sensor_id, h->header.stamp_ns, RejectReason::kCovarianceThreshold);
     } else {
       headings_[h->header.sensor_id] = *h;
     }
@@ -97,7 +97,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     const bool outside = d2 > options_.gnss.gate_chi2;
     if (outside) refused_.Refused(fix);
     if (!PassesGate(options_.gnss, gnss_gate_, fix.header.stamp_ns, d2)) {
-      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+      return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kMahalanobisGate);
     }
     // The gate has refused every fix for gate_reset_s: if they agree with each other, the
     // estimate is lost; the estimator starts over from the sensors (this fix included).
@@ -105,13 +105,13 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
       ctx_.lost = true;
       ctx_.diag.Lost(fix.header.stamp_ns, "lost");
       ctx_.Count(id, "lost");
-      ctx_.Reject(id, RejectReason::kMahalanobisGate);
+      ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kMahalanobisGate);
       return;
     }
   }
   refused_.Clear();
   if (ctx_.smoother.AddGnss(fix, lever) == AddResult::kTooOld) {
-    return ctx_.Reject(id, RejectReason::kTooOld);
+    return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kTooOld);
   }
   gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
   ctx_.Accept(id, fix.header.stamp_ns);
@@ -127,7 +127,7 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   const std::string& id = in.counter_id;
   const TimeNs t = in.heading.header.stamp_ns;
   // A heading paired from fixes on one spot has no direction (NaN).
-  if (const auto why = CheckDualAntennaHeading(in.heading)) return ctx_.Reject(id, *why);
+  if (const auto why = CheckDualAntennaHeading(in.heading)) return ctx_.Reject(id, t, *why);
   if (!ctx_.initialized) {
     ctx_.Accept(id, t);
     return ctx_.initializer.AddHeading(in.heading, in.baseline_imu);
@@ -135,16 +135,16 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   if (const auto predicted = ctx_.PredictAt(t)) {
     const double d2 = HeadingMahalanobisSquared(*predicted, in.baseline_imu, in.heading);
     if (!PassesGate(options_.heading, heading_gate_, t, d2)) {
-      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+      return ctx_.Reject(id, t, RejectReason::kMahalanobisGate);
     }
   }
   const Vec3 main = Vec3::Zero();  // the factor only uses the baseline direction
   try {
     if (ctx_.smoother.AddDualAntenna(in.heading, main, in.baseline_imu) == AddResult::kTooOld) {
-      return ctx_.Reject(id, RejectReason::kTooOld);
+      return ctx_.Reject(id, t, RejectReason::kTooOld);
     }
   } catch (const InputError&) {
-    return ctx_.Reject(id, RejectReason::kAbsurdValue);  // e.g. a vertical baseline
+    return ctx_.Reject(id, t, RejectReason::kAbsurdValue);  // e.g. a vertical baseline
   }
   heading_gate_ = {std::max(heading_gate_.last_accepted_ns, t), false};
   ctx_.Accept(id, t);

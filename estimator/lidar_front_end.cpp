@@ -60,8 +60,8 @@ bool LidarFrontEnd::Used(const std::string& id) const {
 void LidarFrontEnd::Process(const Measurement& m) {
   const LidarScan& scan = std::get<LidarScan>(m);
   const std::string& id = scan.header.sensor_id;
-  if (!Used(id)) return ctx_.Reject(id, RejectReason::kDisabled);
-  if (!ctx_.initialized) return ctx_.Reject(id, RejectReason::kNotInitialized);
+  if (!Used(id)) return ctx_.Reject(id, scan.header.stamp_ns, RejectReason::kDisabled);
+  if (!ctx_.initialized) return ctx_.Reject(id, scan.header.stamp_ns, RejectReason::kNotInitialized);
   if (!merger_) {
     waiting_.push_back(scan);
   } else {
@@ -135,7 +135,7 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
     // The category of the reason (its text before the details in parentheses).
     const std::string reason = r.reject_reason.substr(0, r.reject_reason.find(" ("));
     ctx_.Count(id, reason.empty() ? "registration failed" : reason);
-    return ctx_.Reject(id, RejectReason::kRegistrationFailed);
+    return ctx_.Reject(id, t, RejectReason::kRegistrationFailed);
   }
   if (r.diagnostics.degenerate) ctx_.Count(id, "degenerate");
   last_scan_ns_ = t;
@@ -148,7 +148,7 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
     const SE3 deviation = prior->T_prev_curr.Inverse() * r.T_prev_curr;
     if (deviation.translation().norm() > options_.lidar.max_prior_deviation_m) {
       ctx_.Count(id, "deviates_from_imu_prior");
-      return ctx_.Reject(id, RejectReason::kMahalanobisGate);
+      return ctx_.Reject(id, t, RejectReason::kMahalanobisGate);
     }
   }
   Mat6 covariance = options_.lidar.covariance_scale * r.covariance;
@@ -162,11 +162,11 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   try {
     m.sqrt_information = SqrtInformationOfCovariance(covariance, "lidar relative pose");
   } catch (const InputError&) {
-    return ctx_.Reject(id, RejectReason::kInvalidCovariance);
+    return ctx_.Reject(id, t, RejectReason::kInvalidCovariance);
   }
   if (ctx_.smoother.AddRelativePose(r.prev_stamp_ns, t, m, options_.lidar.kernel) ==
       AddResult::kTooOld) {
-    return ctx_.Reject(id, RejectReason::kTooOld);
+    return ctx_.Reject(id, t, RejectReason::kTooOld);
   }
   ctx_.Count(id, "registered");
   if (!merged) ctx_.Accept(id, t);

@@ -69,7 +69,7 @@ Admission MeasurementIntake::AdmitImu(const ImuSample& s, FrontEndContext& ctx) 
     }
   }
   if (why) {
-    ctx.Reject(id, *why);
+    ctx.Reject(id, s.header.stamp_ns, *why);
     return Admission::kRejected;
   }
   ctx.Accept(id, s.header.stamp_ns);
@@ -93,7 +93,7 @@ Admission MeasurementIntake::Admit(const Measurement& m, Claim claim, FrontEndCo
     why = CheckStamp(h, ctx.newest_imu_ns);
   }
   if (why) {
-    ctx.Reject(h.sensor_id, *why);
+    ctx.Reject(h.sensor_id, h.stamp_ns, *why);
     return Admission::kRejected;
   }
   // Later than the reorder latency: no order guarantee, processed at once.

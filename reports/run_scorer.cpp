@@ -57,13 +57,20 @@ void RunScorer::AddEpoch(TimeNs t_ns,
       if (!estimators_[k].first_finite_ns) estimators_[k].first_finite_ns = t_ns;
       if (!first_epoch_ns_) first_epoch_ns_ = t_ns;
     }
-    epoch.estimates[k] = Compact{s, estimates[k]->covariance.topLeftCorner<6, 6>()};
+    const Mat15& P = estimates[k]->covariance;
+    epoch.estimates[k] = Compact{s, estimates[k]->status, P.topLeftCorner<6, 6>(),
+                                 P.block<3, 3>(kVelocityIndex, kVelocityIndex)};
     any = true;
   }
   DecideSpan(t_ns, false);
   // Before any estimator has started, an epoch is before the span whatever it will be: only
   // counted (above), not held, and the truth up to it is not needed any more.
   if (!any && !span_begin_ns_ && !first_epoch_ns_) {
+    if (observer_ && !track_.empty() && t_ns <= track_.newest_ns()) {
+      if (const auto reference = track_.At(t_ns)) {
+        observer_(*reference, std::vector<std::optional<EpochErrors>>(estimators_.size()));
+      }
+    }
     track_.DropBefore(t_ns);
     return;
   }
@@ -102,6 +109,16 @@ void RunScorer::DecideSpan(TimeNs now_ns, bool at_end) {
 
 void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& reference) {
   const bool in_span = reference && epoch.t_ns >= *span_begin_ns_;
+  if (observer_ && reference) {
+    std::vector<std::optional<EpochErrors>> errors(estimators_.size());
+    for (std::size_t k = 0; k < estimators_.size(); ++k) {
+      const std::optional<Compact>& c = epoch.estimates[k];
+      if (!in_span || !c || !Finite(c->state)) continue;
+      errors[k] = EpochErrorsOf(c->state, c->status, c->pose_covariance, c->velocity_covariance,
+                                *reference);
+    }
+    observer_(*reference, errors);
+  }
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     PerEstimator& e = estimators_[k];
     const std::optional<Compact>& c = epoch.estimates[k];

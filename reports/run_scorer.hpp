@@ -5,8 +5,8 @@
 // is decided once every estimator has given a finite estimate, or `span_wait_ns` after the first
 // output epoch, whichever comes first; an estimator that starts later than that is scored from
 // the span's start all the same, its missing epochs counted as unavailable. Until the span is
-// decided the paired epochs are held (pose, velocity and the 6x6 pose covariance, ~0.5 KB per
-// estimator and epoch; 2 minutes at most). So no estimator is scored over an easier stretch than
+// decided the paired epochs are held (state, pose and velocity covariance, ~0.6 KB per estimator
+// and epoch; 2 minutes at most). So no estimator is scored over an easier stretch than
 // another, and what an estimator did not deliver is counted, not hidden.
 //
 // Truth comes at its own rate (AddTruth, stamps increasing, ahead of or behind the estimates);
@@ -15,10 +15,12 @@
 
 #include <cstddef>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <vector>
 
 #include "core/state.hpp"
+#include "reports/epoch_errors.hpp"
 #include "reports/reference_track.hpp"
 #include "reports/trajectory_scorer.hpp"
 
@@ -50,6 +52,13 @@ class RunScorer {
  public:
   RunScorer(std::size_t estimators, const SE3& T_body_frame, RunScoringOptions options);
 
+  // Called for every epoch paired with the truth, in stamp order (the span may be decided up to
+  // span_wait_ns later): the reference there and, per estimator, the errors of its estimate when
+  // it is inside the scored span (nullopt otherwise).
+  using EpochObserver = std::function<void(const ReferenceState& reference,
+                                           const std::vector<std::optional<EpochErrors>>& errors)>;
+  void SetEpochObserver(EpochObserver observer) { observer_ = std::move(observer); }
+
   void AddTruth(const TruthSample& sample);
 
   // One output epoch: the estimate of each estimator (nullopt: none), in the order they were
@@ -67,7 +76,9 @@ class RunScorer {
   // What the scorers need of one estimate.
   struct Compact {
     NavState state;
+    EstimateStatus status;
     Mat6 pose_covariance;
+    Mat3 velocity_covariance;
   };
   struct Epoch {
     TimeNs t_ns = 0;
@@ -85,6 +96,7 @@ class RunScorer {
   void DecideSpan(TimeNs now_ns, bool at_end);
 
   RunScoringOptions options_;
+  EpochObserver observer_;
   ReferenceTrack track_;
   std::vector<PerEstimator> estimators_;
   std::deque<Epoch> waiting_for_truth_;

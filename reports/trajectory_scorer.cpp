@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/so3.hpp"
+#include "reports/epoch_errors.hpp"
 
 namespace statebench::reports {
 namespace {
@@ -28,20 +29,6 @@ ErrorStatistics ToErrorStatistics(const RunningStatistics& s) {
   e.std = s.std();
   e.max = s.max();
   return e;
-}
-
-// NEES of the pose error e6 = (rotation, position) and of the position alone against the
-// estimate's covariance blocks; nullopt when the covariance is not usable.
-std::optional<std::pair<double, double>> PoseNees(const Vec6& e6, const Mat6& p6) {
-  if (!p6.allFinite() || !(p6.diagonal().minCoeff() > 0.0)) return std::nullopt;
-  const Eigen::LDLT<Mat6> ldlt(p6);
-  const Eigen::LDLT<Mat3> ldlt3(p6.bottomRightCorner<3, 3>());
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
-  const Vec3 dp = e6.tail<3>();
-  const double nees = e6.dot(ldlt.solve(e6));
-  const double nees_position = dp.dot(ldlt3.solve(dp));
-  if (!std::isfinite(nees) || !std::isfinite(nees_position)) return std::nullopt;
-  return std::make_pair(nees, nees_position);
 }
 
 }  // namespace
@@ -71,27 +58,20 @@ void TrajectoryScorer::Add(const NavState& s, const Mat6& pose_covariance,
   ++metrics_.compared;
   last_distance_m_ = r.distance_m;
 
-  const Vec3 dp = s.p_world - r.T_world_frame.translation();
+  const PoseErrors e = ErrorsOf(s, r);
+  const Vec3& dp = e.dp_world;
   sum_x_ += dp.x() * dp.x();
   sum_y_ += dp.y() * dp.y();
   sum_z_ += dp.z() * dp.z();
-  const Vec3 rpy_e = so3::ToRollPitchYaw(s.q_world_imu);
-  const Vec3 rpy_r = so3::ToRollPitchYaw(r.T_world_frame.rotation());
-  sum_roll_ += std::pow(so3::WrapAngle(rpy_e.x() - rpy_r.x()), 2);
-  sum_pitch_ += std::pow(so3::WrapAngle(rpy_e.y() - rpy_r.y()), 2);
-  sum_yaw_ += std::pow(so3::WrapAngle(rpy_e.z() - rpy_r.z()), 2);
-  const Vec3 v_est = s.q_world_imu.conjugate() * s.v_world;
-  const Vec3 v_ref = r.T_world_frame.rotation().conjugate() * r.v_world;
-  sum_vlong_ += std::pow(v_est.x() - v_ref.x(), 2);
-  sum_vlat_ += std::pow(v_est.y() - v_ref.y(), 2);
-  sum_vel_ += (s.v_world - r.v_world).squaredNorm();
-  const Vec3 dtheta = so3::Log<double>(s.q_world_imu.conjugate() * r.T_world_frame.rotation());
+  sum_roll_ += e.drpy.x() * e.drpy.x();
+  sum_pitch_ += e.drpy.y() * e.drpy.y();
+  sum_yaw_ += e.drpy.z() * e.drpy.z();
+  sum_vlong_ += e.dv_own_frame.x() * e.dv_own_frame.x();
+  sum_vlat_ += e.dv_own_frame.y() * e.dv_own_frame.y();
+  sum_vel_ += e.dv_world.squaredNorm();
   ape_t_.Add(dp.norm());
-  ape_r_.Add(dtheta.norm());
-
-  Vec6 e6;
-  e6 << dtheta, -dp;
-  if (const auto nees = PoseNees(e6, pose_covariance)) {
+  ape_r_.Add(e.dtheta.norm());
+  if (const auto nees = PoseNees(e, pose_covariance)) {
     nees_pose_sum_ += nees->first;
     nees_position_sum_ += nees->second;
     ++metrics_.nees_count;

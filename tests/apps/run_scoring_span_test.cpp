@@ -22,6 +22,16 @@ nlohmann::json ReadJson(const fs::path& file) {
   return nlohmann::json::parse(in);
 }
 
+// Rows of a CSV file after its header that contain `text` ("" counts every row).
+int CountRows(const fs::path& csv, const std::string& text) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  int n = 0;
+  while (std::getline(in, line)) n += line.find(text) != std::string::npos;
+  return n;
+}
+
 // The stamp of the first row of an estimate.csv, s.
 double FirstEstimateS(const fs::path& csv) {
   std::ifstream in(csv);
@@ -57,6 +67,24 @@ TEST(RunScoringSpan, FactorGraphAndEkfShareTheirScoringSpan) {
   EXPECT_GT(early["skipped"].get<int>(), 0);
   EXPECT_EQ(late["skipped"].get<int>(), 0);
   EXPECT_EQ(early["compared"].get<int>(), early["availability"]["span_finite_estimates"].get<int>());
+
+  // The run's details for the report (docs/estimate-format.md, "Run details"): an errors.csv
+  // row per compared estimate, a verdict row per accepted or rejected GNSS fix as the
+  // diagnostics count them, the reference from the first output epoch, every fix of the stream.
+  for (const std::string label : {"factor_graph", "ekf"}) {
+    const nlohmann::json metrics = ReadJson(dir / label / "metrics.json");
+    const nlohmann::json diagnostics = ReadJson(dir / label / "diagnostics.json");
+    EXPECT_EQ(CountRows(dir / label / "errors.csv", ""), metrics["compared"].get<int>()) << label;
+    const nlohmann::json& gnss = diagnostics["sensors"]["gnss_front"];
+    int rejected = 0;
+    for (const auto& [reason, n] : gnss["rejected"].items()) rejected += n.get<int>();
+    EXPECT_EQ(CountRows(dir / label / "measurements.csv", ",gnss_front,"),
+              gnss["accepted"].get<int>() + rejected)
+        << label;
+  }
+  EXPECT_EQ(CountRows(dir / "reference.csv", ""), 2001);  // 0 .. 20 s at 100 Hz
+  EXPECT_EQ(CountRows(dir / "gnss_fixes.csv", ",gnss_front,"),
+            ReadJson(dir / "ekf" / "diagnostics.json")["sensors"]["gnss_front"]["received"].get<int>());
   fs::remove_all(dir);
   fs::remove(dir.string() + ".log");
 }
