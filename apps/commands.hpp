@@ -17,5 +17,7 @@ int RunSweep(const std::vector<std::string>& args);
 int RunResults(const std::vector<std::string>& args);
 int RunCompare(const std::vector<std::string>& args);
 int RunReportCommand(const std::vector<std::string>& args);
+int RunImport(const std::vector<std::string>& args);  // import rosbag BAG ...
+int RunExport(const std::vector<std::string>& args);  // export rosbag LOG ...
 
 }  // namespace statebench::app

@@ -22,6 +22,10 @@ constexpr const char* kUsage =
     "  results summary|merge DB ...       statistics of a results store; merge shard stores\n"
     "  compare BASE CANDIDATE             regression verdicts between two stores or run folders\n"
     "  report RUN_DIR|DB --out FILE.html  HTML report with plots of a run or a sweep's store\n"
+    "  import rosbag BAG [--topics MAP.yaml --out LOG]\n"
+    "                                     a ROS1 bag into a recorded log (without --topics: its\n"
+    "                                     topics and a suggested MAP.yaml)\n"
+    "  export rosbag LOG --out BAG        a recorded log into a ROS1 bag\n"
     "Run 'statebench <command> --help' for a command's options.\n";
 
 }  // namespace
@@ -47,6 +51,8 @@ int main(int argc, char** argv) {
   if (command == "results") return statebench::app::RunResults(args);
   if (command == "compare") return statebench::app::RunCompare(args);
   if (command == "report") return statebench::app::RunReportCommand(args);
+  if (command == "import") return statebench::app::RunImport(args);
+  if (command == "export") return statebench::app::RunExport(args);
   if (command == "--help" || command == "help" || command == "-h") {
     std::printf("%s", kUsage);
     return 0;

@@ -8,6 +8,8 @@ PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev libyaml-cpp-dev libceres-dev libgeographiclib-dev libtbb-dev
   libbullet-dev libpcl-dev libsqlite3-dev nlohmann-json3-dev
+  # statebench import/export rosbag: ROS1 bag I/O and the message headers it converts
+  librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libtf2-msgs-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev  # bench only: lidar_raycast_bench's Embree comparison
   clang libclang-rt-14-dev  # scripts/sanitize.sh: sanitizer build and libFuzzer targets

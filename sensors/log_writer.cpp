@@ -55,12 +55,7 @@ LogWriter::LogWriter(const fs::path& dir, LogWriterOptions options)
   manifest_.scenario = options_.scenario;
   manifest_.seed = options_.seed;
   manifest_.origin = options_.origin;
-  if (!options_.setup_yaml.empty()) {
-    std::ofstream setup(dir_ / "setup.yaml", std::ios::binary);
-    setup << options_.setup_yaml;
-    if (!setup) throw InputError((dir_ / "setup.yaml").string() + ": cannot write");
-    manifest_.setup = "setup.yaml";
-  }
+  if (!options_.setup_yaml.empty()) WriteSetup(options_.setup_yaml);
   if (options_.truth_T_body_imu) {
     truth_ = std::make_unique<TruthWriter>(dir_, *options_.truth_T_body_imu);
     manifest_.truth_csv = "truth.csv";
@@ -138,6 +133,13 @@ void LogWriter::WriteLidar(Stream& s, const LidarScan& scan) {
   WriteLidarPcd(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id / name, points);
   AppendLidarIndexRow(s.buffer, scan, name);
   s.lidar_points += points.size();
+}
+
+void LogWriter::WriteSetup(const std::string& setup_yaml) {
+  std::ofstream setup(dir_ / "setup.yaml", std::ios::binary | std::ios::trunc);
+  setup << setup_yaml;
+  if (!setup) throw InputError((dir_ / "setup.yaml").string() + ": cannot write");
+  manifest_.setup = "setup.yaml";
 }
 
 void LogWriter::WriteTruth(const TruthSample& sample) {

@@ -58,6 +58,10 @@ class LogWriter {
   // Throws InputError if the options gave no truth_T_body_imu.
   void WriteTruth(const TruthSample& sample);
 
+  // Writes setup.yaml (replacing the options' setup_yaml) and lists it in the manifest, for
+  // writers that know the setup only after the measurements (a bag import). Before Close().
+  void WriteSetup(const std::string& setup_yaml);
+
   // Flushes and closes every file and writes log.yaml; throws InputError on a failed write.
   const LogManifest& Close();
 

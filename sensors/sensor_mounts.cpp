@@ -1,0 +1,67 @@
+#include "sensors/sensor_mounts.hpp"
+
+#include "core/csv.hpp"
+#include "core/transform_config.hpp"
+#include "core/yaml_node.hpp"
+
+namespace statebench::sensors {
+namespace {
+
+std::string Number(double v) {
+  std::string out;
+  AppendNumber(out, v);
+  return out;
+}
+
+std::string Quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::vector<SensorMount> ReadSensorMounts(const std::filesystem::path& setup_file) {
+  const YamlNode root = YamlNode::LoadFile(setup_file);
+  root.ExpectMap();
+  const YamlNode list = root["sensors"];
+  list.ExpectSequence();
+  std::vector<SensorMount> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YamlNode entry = list.At(i);
+    entry.ExpectMap();
+    SensorMount m;
+    m.type = entry.Get<std::string>("type");
+    m.id = entry.Get<std::string>("id");
+    m.T_body_sensor = ParseTransform(entry["T_body_sensor"]);
+    if (const auto l = entry.Find("latency_s"); l && !l->IsNull()) m.latency_s = l->As<double>();
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+std::string SensorMountsYaml(const std::string& name, const std::vector<SensorMount>& mounts,
+                             const std::string& header_comment) {
+  std::string y = header_comment;
+  y += "name: " + Quoted(name) + "\nsensors:" + (mounts.empty() ? " []\n" : "\n");
+  for (const SensorMount& m : mounts) {
+    if (!m.comment.empty()) y += "  # " + m.comment + "\n";
+    y += "  - type: " + m.type + "\n    id: " + Quoted(m.id) + "\n";
+    const Vec3& t = m.T_body_sensor.translation();
+    y += "    T_body_sensor: {translation: [" + Number(t.x()) + ", " + Number(t.y()) + ", " +
+         Number(t.z()) + "]";
+    const Quat& q = m.T_body_sensor.rotation();
+    if (q.w() != 1.0 || q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0) {
+      y += ", quaternion_wxyz: [" + Number(q.w()) + ", " + Number(q.x()) + ", " + Number(q.y()) +
+           ", " + Number(q.z()) + "]";
+    }
+    y += "}\n";
+    if (m.latency_s) y += "    latency_s: " + Number(*m.latency_s) + "\n";
+  }
+  return y;
+}
+
+}  // namespace statebench::sensors
