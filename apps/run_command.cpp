@@ -29,6 +29,7 @@
 #include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
 #include "reports/metrics_json.hpp"
+#include "simulator/scenario_mismatch.hpp"
 #include "simulator/scenario_sensors.hpp"
 #include "simulator/sensor_run.hpp"
 
@@ -62,6 +63,29 @@ nlohmann::json FaultsJson(const MeasurementFaultInjector& injector) {
     out.push_back(j);
   }
   return out;
+}
+
+// What the scenario's `mismatch:` drew for this run.
+nlohmann::json MismatchJson(const std::vector<sim::SensorMismatch>& sensors,
+                            const sim::VehicleMismatch& vehicle) {
+  const auto vec = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  nlohmann::json per_sensor = nlohmann::json::object();
+  for (const sim::SensorMismatch& m : sensors) {
+    per_sensor[m.id] = {{"mount_translation_m", vec(m.mount_translation_m)},
+                        {"mount_rotation_deg", vec(m.mount_rotation_deg)},
+                        {"clock_offset_s", m.clock_offset_s},
+                        {"reported_covariance_scale", m.reported_covariance_scale},
+                        {"gyro_noise_factor", m.gyro_noise_factor},
+                        {"gyro_walk_factor", m.gyro_walk_factor},
+                        {"accel_noise_factor", m.accel_noise_factor},
+                        {"accel_walk_factor", m.accel_walk_factor}};
+  }
+  return {{"sensors", per_sensor},
+          {"vehicle",
+           {{"file", vehicle.file.string()},
+            {"mass_factor", vehicle.mass_factor},
+            {"cornering_stiffness_front_factor", vehicle.cornering_stiffness_front_factor},
+            {"cornering_stiffness_rear_factor", vehicle.cornering_stiffness_rear_factor}}}};
 }
 
 }  // namespace
@@ -99,11 +123,22 @@ int RunRun(const std::vector<std::string>& argv) {
     // fails in a second, not after the simulation.
     const sim::ScenarioSensors sensors = sim::LoadScenarioSensors(scenario);
     const est::EstimatorSensorSetup setup = EstimatorSetupOf(sensors);
+    // The vehicle parameters the estimators are told: with a `mismatch:`, drawn around the
+    // simulator's (scenario_mismatch.hpp).
+    std::optional<sim::VehicleMismatch> vehicle;
+    if (scenario.mismatch) {
+      fs::create_directories(out_dir);
+      vehicle = sim::WriteEstimatorVehicleFile(*scenario.mismatch, scenario.seed,
+                                               scenario.vehicle_file,
+                                               out_dir / "vehicle_estimators.yaml");
+    }
     // In the scenario's ENU frame, whatever origin each estimator chose.
     EstimatorFeed feed(setup.imu_id, LocalEnuFrame(scenario.origin));
     for (const sim::EstimatorSpec& spec : specs) {
       const fs::path dir = out_dir / spec.label;
-      feed.Add(spec.label, spec.type, dir, MakeScenarioEstimator(spec, scenario, setup, dir),
+      feed.Add(spec.label, spec.type, dir,
+               MakeScenarioEstimator(spec, scenario, setup, dir,
+                                     vehicle ? vehicle->file : fs::path()),
                args->Flag("full-covariance"), spec.inputs);
     }
 
@@ -115,7 +150,8 @@ int RunRun(const std::vector<std::string>& argv) {
     sim::SensorRunOptions run_options;
     if (cache) run_options.cache = {cache.get(), BuildIdentity()};
     sim::SensorRun run(scenario, out_dir, run_options);
-    feed.ScoreAgainstTruth(setup.T_body_imu, ScoredOutages(run.sensors(), run.truth().end_ns()));
+    // Scored against the truth of the IMU as mounted (with a mismatch, not where the setup says).
+    feed.ScoreAgainstTruth(run.T_body_imu(), ScoredOutages(run.sensors(), run.truth().end_ns()));
     feed.WriteDetails(out_dir);
     run.SetTruthObserver([&feed](const TruthSample& s) { feed.AddTruth(s); });
     const double end_s = ToSeconds(run.truth().end_ns());
@@ -169,6 +205,7 @@ int RunRun(const std::vector<std::string>& argv) {
                               {"real_time_factor", wall_s > 0 ? end_s / wall_s : 0.0},
                               {"estimators", estimators}};
     summary["faults"] = FaultsJson(run.faults());
+    if (scenario.mismatch) summary["mismatch"] = MismatchJson(sensors.mismatch, *vehicle);
     summary["memory"] = memory.Json();
     summary["cpu"] = cpu.Json(feed.estimators(), end_s);
     if (cache) {

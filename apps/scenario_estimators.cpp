@@ -51,7 +51,8 @@ est::EstimatorSensorSetup EstimatorSetupOf(const sim::ScenarioSensors& sensors) 
 std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& spec,
                                                       const sim::Scenario& scenario,
                                                       const est::EstimatorSensorSetup& setup,
-                                                      const fs::path& dir) {
+                                                      const fs::path& dir,
+                                                      const fs::path& vehicle_file) {
   // The estimator's own view of the setup: only its inputs.
   est::EstimatorSensorSetup own = setup;
   if (!spec.inputs.empty()) {
@@ -67,7 +68,7 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
   std::ofstream(config) << sim::EstimatorConfigText(spec, scenario);
   est::EstimatorFiles files;
   files.options = config;
-  files.vehicle = scenario.vehicle_file;
+  files.vehicle = vehicle_file.empty() ? scenario.vehicle_file : vehicle_file;
   try {
     return est::MakeEstimator(spec.type, own, files);
   } catch (const InputError& e) {

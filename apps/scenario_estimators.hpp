@@ -28,9 +28,11 @@ est::EstimatorSensorSetup EstimatorSetupOf(const sim::ScenarioSensors& sensors);
 // Writes the estimator's merged options to DIR/estimator_config.yaml and builds the estimator
 // from that file, so the run can be repeated from it. An InputError (a bad override, an option
 // that does not fit the sensor setup) names the written file's line and the scenario's entry.
+// vehicle_file: the vehicle parameters the estimator is told (empty: the scenario's own file).
 std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& spec,
                                                       const sim::Scenario& scenario,
                                                       const est::EstimatorSensorSetup& setup,
-                                                      const std::filesystem::path& dir);
+                                                      const std::filesystem::path& dir,
+                                                      const std::filesystem::path& vehicle_file = {});
 
 }  // namespace statebench::app

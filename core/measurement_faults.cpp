@@ -99,8 +99,10 @@ bool Alter(const MeasurementFault& f, std::uint64_t count, Measurement* m) {
       h.arrival_ns -= FromSeconds(f.shift_s);
       return true;
     case Kind::kClockJump:
+      // A clock behind the log's start would stamp the first samples before it: they are not
+      // delivered (the log begins at 0).
       h.stamp_ns += FromSeconds(f.shift_s);
-      return true;
+      return h.stamp_ns >= 0;
     case Kind::kGnssJump:
     case Kind::kGnssOverconfident: {
       auto& fix = std::get<GnssFix>(*m);

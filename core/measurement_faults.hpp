@@ -25,7 +25,8 @@ enum class MeasurementFaultKind {
   kNonFinite,          // one numeric field per measurement set to `value` (NaN, inf, 1e300, ...)
   kDuplicate,          // every measurement delivered twice
   kStampsBackwards,    // stamp and arrival moved back by shift_s
-  kClockJump,          // stamp moved by shift_s (the sensor's clock jumped), arrival unchanged
+  kClockJump,          // stamp moved by shift_s (the sensor's clock jumped), arrival unchanged;
+                       // a stamp moved before 0 (the log's start) is not delivered
   kGnssJump,           // GNSS fixes moved by offset_m (ENU), covariance as reported
   kGnssOverconfident,  // GNSS fixes moved by offset_m while reporting sigma_m
   kLidarGarbage,       // every lidar point at the origin (far_m 0) or at far_m along its ray
@@ -44,11 +45,11 @@ struct MeasurementFault {
   double start_s = 0.0;
   double end_s = 0.0;  // +inf: to the end
 
-  double value = 0.0;                 // kNonFinite: the value written (NaN, +-inf, 1e300, ...)
-  double shift_s = 1.0;               // kStampsBackwards (back), kClockJump (signed)
-  Vec3 offset_m = Vec3(100, 0, 0);    // kGnssJump, kGnssOverconfident (ENU at the fix)
-  double sigma_m = 0.01;              // kGnssOverconfident: reported per-axis sigma
-  double far_m = 0.0;                 // kLidarGarbage: 0 = at the origin, else that far
+  double value = 0.0;               // kNonFinite: the value written (NaN, +-inf, 1e300, ...)
+  double shift_s = 1.0;             // kStampsBackwards (back), kClockJump (signed)
+  Vec3 offset_m = Vec3(100, 0, 0);  // kGnssJump, kGnssOverconfident (ENU at the fix)
+  double sigma_m = 0.01;            // kGnssOverconfident: reported per-axis sigma
+  double far_m = 0.0;               // kLidarGarbage: 0 = at the origin, else that far
   double accel_limit_mps2 = 16.0 * 9.80665;
   double gyro_limit_radps = 2000.0 * 3.14159265358979323846 / 180.0;
 

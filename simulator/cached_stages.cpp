@@ -69,6 +69,14 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
     key.Field("sensor v1").Field(code_id).Field(truth_key).Field(entry);
     key.Field(std::to_string(sensor_seed)).Field(std::to_string(scenario.seed));
     if (c.type() == sensors::SensorType::kGnss) key.Field(faults);
+    if (scenario.mismatch) {  // the drawn unit (noise, mounts, reported covariance)
+      const MismatchOptions& m = *scenario.mismatch;
+      key.Field("mismatch v1");
+      for (const double v : {m.imu_spread, m.gnss_covariance_scale_min, m.gnss_covariance_scale_max,
+                             m.mount_translation_sigma_m, m.mount_rotation_sigma_deg}) {
+        key.Field(Number(v));
+      }
+    }
     keys[c.spec.id] = key.Hex();
   }
   return keys;

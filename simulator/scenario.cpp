@@ -314,7 +314,7 @@ std::optional<fs::path> FindVehicleFile(const fs::path& scenario_dir_in, const s
 Scenario LoadScenario(const fs::path& path) {
   const YamlNode root = YamlNode::LoadFile(path);
   root.ExpectOnlyKeys({"name", "seed", "duration_s", "origin", "vehicle", "network", "ego",
-                       "traffic", "sumo", "sensors", "faults", "estimators"});
+                       "traffic", "sumo", "sensors", "faults", "mismatch", "estimators"});
   Scenario scenario;
   scenario.file = path;
   scenario.name = root.Get<std::string>("name");
@@ -333,6 +333,9 @@ Scenario LoadScenario(const fs::path& path) {
   }
   if (const auto faults = root.Find("faults"); faults && !faults->IsNull()) {
     scenario.faults = *faults;
+  }
+  if (const auto mismatch = root.Find("mismatch"); mismatch && !mismatch->IsNull()) {
+    scenario.mismatch = ParseMismatch(*mismatch);
   }
   if (const auto estimators = root.Find("estimators"); estimators && !estimators->IsNull()) {
     scenario.estimators = ParseEstimators(*estimators, root.Directory());

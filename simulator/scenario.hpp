@@ -14,6 +14,7 @@
 
 #include "core/geodetic.hpp"
 #include "core/yaml_node.hpp"
+#include "simulator/mismatch_options.hpp"
 #include "simulator/source_ref.hpp"
 
 namespace statebench::sim {
@@ -148,6 +149,7 @@ struct Scenario {
   SumoSpec sumo;
   std::optional<YamlNode> sensors;        // unparsed: a file name or an inline map (issue 3)
   std::optional<YamlNode> faults;         // unparsed
+  std::optional<MismatchOptions> mismatch;  // simulated vehicle vs. what the estimators are told
   std::vector<EstimatorSpec> estimators;  // empty: none listed (see ScenarioEstimators)
 };
 

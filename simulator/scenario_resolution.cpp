@@ -201,6 +201,11 @@ YAML::Node ResolveScenario(const fs::path& scenario_file) {
     entry["overrides"] =
         MergeYaml(base, spec.overrides ? spec.overrides->raw() : YAML::Node());
     if (!entry["overrides"].IsMap()) entry["overrides"] = YAML::Node(YAML::NodeType::Map);
+    if (!spec.inputs.empty()) {
+      YAML::Node inputs(YAML::NodeType::Sequence);
+      for (const std::string& id : spec.inputs) inputs.push_back(id);
+      entry["inputs"] = inputs;
+    }
     estimators.push_back(entry);
   }
   root["estimators"] = estimators;

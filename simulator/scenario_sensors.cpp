@@ -86,6 +86,9 @@ ScenarioSensors LoadScenarioSensors(const Scenario& scenario) {
     out.setup_yaml = YAML::Dump(node.raw()) + "\n";
   }
   if (scenario.faults) out.faults = ApplyFaults(*scenario.faults, &out.setup);
+  if (scenario.mismatch) {
+    out.mismatch = ApplyMismatch(*scenario.mismatch, scenario.seed, &out.setup, &out.faults);
+  }
   return out;
 }
 

@@ -16,13 +16,16 @@
 #include "sensors/sensor_setup.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scenario_faults.hpp"
+#include "simulator/scenario_mismatch.hpp"
 
 namespace statebench::sim {
 
 struct ScenarioSensors {
-  sensors::SensorSetup setup;  // faults applied
-  std::string setup_yaml;      // the setup as written (file text, or the inline map), for logs
+  sensors::SensorSetup setup;  // faults and mismatch applied: what the simulator uses
+  std::string setup_yaml;      // the setup as written (file text, or the inline map): what the
+                               // estimators are told
   ScenarioFaults faults;       // the faults that are not setup options (urban canyon)
+  std::vector<SensorMismatch> mismatch;  // what the scenario's `mismatch:` drew (empty: none)
 };
 
 std::optional<std::filesystem::path> FindSensorSetupFile(const std::filesystem::path& scenario_file,

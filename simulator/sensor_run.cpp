@@ -6,6 +6,7 @@
 
 #include "core/stage_profile.hpp"
 #include "sensors/lidar_sensor_model.hpp"
+#include "sensors/measurement_stream.hpp"
 #include "sensors/sensor_suite.hpp"
 #include "simulator/world_from_sumo.hpp"
 
@@ -93,23 +94,23 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
   auto suite = MakeSuite(scenario, setup, world_, world_ ? urban_canyon : std::nullopt,
                          sensor_seed_, cached);
   if (truth_key) {
-    suite->ReplaceModels([&](std::unique_ptr<sensors::SensorModel> model)
-                             -> std::unique_ptr<sensors::SensorModel> {
-      const std::string& id = model->spec().id;
-      if (dynamic_cast<sensors::ReplayedSensorModel*>(model.get())) return model;
-      if (const auto entry = cached.find(id); entry != cached.end()) {
-        return std::make_unique<sensors::ReplayedSensorModel>(model->spec(),
-                                                              entry->second / kStreamFile);
-      }
-      const auto key = keys.find(id);
-      if (key == keys.end()) return model;  // not an entry of the setup (none today)
-      Recording recording{nullptr, key->second, cache_.cache->Begin(kSensorStage, key->second)};
-      auto recorder = std::make_unique<sensors::RecordingSensorModel>(
-          std::move(model), recording.folder / kStreamFile);
-      recording.model = recorder.get();
-      recordings_.push_back(recording);
-      return recorder;
-    });
+    suite->ReplaceModels(
+        [&](std::unique_ptr<sensors::SensorModel> model) -> std::unique_ptr<sensors::SensorModel> {
+          const std::string& id = model->spec().id;
+          if (dynamic_cast<sensors::ReplayedSensorModel*>(model.get())) return model;
+          if (const auto entry = cached.find(id); entry != cached.end()) {
+            return std::make_unique<sensors::ReplayedSensorModel>(model->spec(),
+                                                                  entry->second / kStreamFile);
+          }
+          const auto key = keys.find(id);
+          if (key == keys.end()) return model;  // not an entry of the setup (none today)
+          Recording recording{nullptr, key->second, cache_.cache->Begin(kSensorStage, key->second)};
+          auto recorder = std::make_unique<sensors::RecordingSensorModel>(
+              std::move(model), recording.folder / kStreamFile);
+          recording.model = recorder.get();
+          recordings_.push_back(recording);
+          return recorder;
+        });
   }
   source_ = std::make_unique<sensors::SimulatedMeasurementSource>(std::move(suite),
                                                                   [this] { return NextTruth(); });
@@ -127,15 +128,27 @@ void SensorRun::PublishRecordings() {
   recordings_.clear();
 }
 
-
 std::optional<Measurement> SensorRun::Next() {
   const StageScope stage(Stage::kSensors);
   while (pending_.empty()) {
-    std::optional<Measurement> m = source_->Next();
+    std::optional<Measurement> m = lookahead_ ? std::move(lookahead_) : source_->Next();
+    lookahead_.reset();
     if (!m || faults_.empty()) return m;
-    std::vector<Measurement> out;
-    faults_.Apply(*m, &out);
-    for (Measurement& x : out) pending_.push_back(std::move(x));
+    // Everything that arrives at this instant, faults applied, in the stream's order again (a
+    // fault may move a stamp, which orders measurements of equal arrival: ArrivesBefore), so a
+    // recorded log reads back in the order it was delivered.
+    const TimeNs arrival_ns = HeaderOf(*m).arrival_ns;
+    std::vector<Measurement> group;
+    faults_.Apply(*m, &group);
+    while (std::optional<Measurement> n = source_->Next()) {
+      if (HeaderOf(*n).arrival_ns != arrival_ns) {
+        lookahead_ = std::move(n);
+        break;
+      }
+      faults_.Apply(*n, &group);
+    }
+    std::stable_sort(group.begin(), group.end(), sensors::ArrivesBefore);
+    for (Measurement& x : group) pending_.push_back(std::move(x));
   }
   Measurement m = std::move(pending_.front());
   pending_.pop_front();

@@ -101,7 +101,8 @@ class SensorRun : public sensors::MeasurementSource {
   StageCacheUse cache_;
   std::vector<Recording> recordings_;
   MeasurementFaultInjector faults_;
-  std::deque<Measurement> pending_;  // delivered before the next measurement of the sensors
+  std::deque<Measurement> pending_;       // delivered before the next measurement of the sensors
+  std::optional<Measurement> lookahead_;  // read past the current arrival instant
 };
 
 }  // namespace statebench::sim

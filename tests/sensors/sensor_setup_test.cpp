@@ -62,7 +62,7 @@ TEST(SensorSetup, PaperSetupsLoad) {
   const auto& gnss = std::get<GnssOptions>(s2.Find("gnss_front")->options);
   EXPECT_EQ(gnss.mode, GnssMode::kSingle);
   EXPECT_NEAR(gnss.AccuracyOf(GnssMode::kSingle).HorizontalSigma(), 1.699, 1e-3);
-  EXPECT_EQ(gnss.correlated_fraction, 0.0);
+  EXPECT_EQ(gnss.correlated_fraction, 0.01);
   EXPECT_TRUE(s2.dual_antenna_headings.empty());
 
   const SensorSetup s3 = LoadSensorSetup(dir / "setup3_shuttle.yaml");

@@ -61,6 +61,10 @@ TEST_F(ScenarioResolutionTest, PathsNameSensorsAndEstimatorsById) {
   const Scenario scenario = LoadScenario(Write(resolved, "changed.yaml"));
   const ScenarioSensors sensors = LoadScenarioSensors(scenario);
   EXPECT_EQ(ScenarioEstimators(scenario)[0].overrides->raw()["window_s"].as<double>(), 0.5);
+  // The estimators' inputs (the paper's protocol) survive the resolution.
+  EXPECT_EQ(ScenarioEstimators(scenario)[0].inputs,
+            (std::vector<std::string>{"imu", "gnss_front", "lidar_roof"}));
+  EXPECT_TRUE(ScenarioEstimators(scenario)[2].inputs.empty());
   EXPECT_EQ(scenario.ego.route[0].edge_id, "A1B1");
 }
 
