@@ -15,8 +15,24 @@ Claim BodyVelocityFrontEnd::Claims(const Measurement& m) const {
 void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
   const BodyVelocity& v = std::get<BodyVelocity>(measurement);
   const std::string& id = v.header.sensor_id;
-  if (!ctx_.initialized) return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
   const EstimatorSensor& sensor = *setup_.Find(id);
+  if (!ctx_.initialized) {
+    // A setup without GNSS starts from the odometry (state_initializer.hpp).
+    if (!ctx_.initializer.local().enabled) {
+      return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
+    }
+    OdometryVelocity o;
+    o.t_ns = v.header.stamp_ns;
+    o.v_frame = v.velocity;
+    o.variance = v.covariance.diagonal().head<3>();
+    o.p_imu_point = sensor.T_imu_sensor.translation();
+    o.q_imu_frame = sensor.T_imu_sensor.rotation();
+    if (!(o.variance.minCoeff() < kUnmeasuredVariance)) {
+      return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kInvalidCovariance);
+    }
+    ctx_.initializer.AddVelocity(o);
+    return ctx_.Accept(id, v.header.stamp_ns);
+  }
   BodyVelocityMeasurement m;
   m.v_frame = v.velocity;
   m.p_imu_point = sensor.T_imu_sensor.translation();

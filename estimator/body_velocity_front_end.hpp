@@ -3,7 +3,8 @@
 // the sensor point at its own stamp. Each velocity component is weighted by its own variance;
 // a component whose variance is at least kUnmeasuredVariance (ROS drivers write 1e3-1e6 for
 // what they do not measure) carries no information. The angular velocity is not used: the IMU
-// measures it better.
+// measures it better. Before the first state of a setup without GNSS, the samples go to the
+// initialiser (a moving start in a local frame, or the proof of a standstill).
 #pragma once
 
 #include "estimator/front_end.hpp"

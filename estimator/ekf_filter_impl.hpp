@@ -78,6 +78,10 @@ struct EkfSingleTrackEstimator::Impl {
   // Initialisation: first fix of the course antenna.
   std::optional<std::pair<TimeNs, Vec3>> first_fix;
   Mat3 first_fix_covariance = Mat3::Identity();
+  // How far the course antenna has moved from its first fix, and how far it must for a course
+  // (WaitingFor()).
+  double course_distance_m = 0.0;
+  double course_needed_m = 0.0;
 
   // Filter.
   bool initialized = false;
@@ -165,6 +169,8 @@ struct EkfSingleTrackEstimator::Impl {
   // ---- initialisation ------------------------------------------------------------------------
 
   void TryInitialize(const std::string& id, const SensorInfo& info, const GnssPositionEnu& fix);
+  // What the initialisation is waiting for, one line (EstimatorDiagnostics::waiting_for).
+  std::string WaitingFor() const;
 
   // ---- bookkeeping ---------------------------------------------------------------------------
 

@@ -159,6 +159,9 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
   const double var_h = std::max(cov_first.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff(),
                                 cov_now.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff());
   const double distance = d.head<2>().norm();
+  course_distance_m = distance;
+  course_needed_m = std::max(options.course_min_distance_m,
+                             std::sqrt(2.0 * var_h) / options.course_max_yaw_sigma_rad);
   if (distance < options.course_min_distance_m || dt <= 0.0) return;
   const double course_var = 2.0 * var_h / (distance * distance);
   if (course_var > options.course_max_yaw_sigma_rad * options.course_max_yaw_sigma_rad) return;
@@ -206,11 +209,26 @@ void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stam
   ++diag.sensors[id].events[event];
   initialized = false;
   first_fix.reset();
+  course_distance_m = course_needed_m = 0.0;
   history.clear();
   refused_fixes.clear();
   last_accepted_gnss_ns.clear();
   last_accepted_speed_ns.clear();
   last_accepted_heading_ns.clear();
+}
+
+}  // namespace statebench::est
+
+namespace statebench::est {
+
+std::string EkfSingleTrackEstimator::Impl::WaitingFor() const {
+  if (!last_imu_ns) return "no IMU sample";
+  if (!first_fix) return "no GNSS fix of " + course_antenna;
+  char text[160];
+  std::snprintf(text, sizeof(text),
+                "no GNSS course (%s moved %.3g m from its first fix of the %.3g m needed)",
+                course_antenna.c_str(), course_distance_m, course_needed_m);
+  return text;
 }
 
 }  // namespace statebench::est

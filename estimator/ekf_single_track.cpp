@@ -259,7 +259,11 @@ std::optional<StateEstimate> EkfSingleTrackEstimator::StateAt(TimeNs t_ns) const
   return impl_->StateAt(t_ns);
 }
 
-EstimatorDiagnostics EkfSingleTrackEstimator::diagnostics() const { return impl_->diag; }
+EstimatorDiagnostics EkfSingleTrackEstimator::diagnostics() const {
+  EstimatorDiagnostics d = impl_->diag;
+  if (!impl_->initialized) d.waiting_for = impl_->WaitingFor();
+  return d;
+}
 
 void EkfSingleTrackEstimator::SetVerdictObserver(VerdictObserver observer) {
   impl_->verdicts = std::move(observer);

@@ -125,7 +125,9 @@ std::vector<std::string> EstimatorSensorSetup::PositionSensorIds() const {
 double EstimatorSensorSetup::MaxMeasurementLatency() const {
   double latency = 0.0;
   for (const auto& s : sensors) {
-    if (s.kind == SensorKind::kGnss) latency = std::max(latency, s.latency_s);
+    if (s.kind == SensorKind::kGnss || s.kind == SensorKind::kBodyVelocity) {
+      latency = std::max(latency, s.latency_s);
+    }
   }
   for (const auto& p : dual_antennas) latency = std::max(latency, p.latency_s);
   return latency;

@@ -76,7 +76,8 @@ struct EstimatorSensorSetup {
   const EstimatorSensor* Find(const std::string& id) const;
   const GnssAntenna* FindAntenna(const std::string& id) const;
   const DualAntennaPair* FindHeading(const std::string& heading_id) const;
-  // Largest latency of the sensors the estimator uses (GNSS antennas and headings).
+  // Largest latency of the sensors whose measurements the estimator places in the window at
+  // their stamps (GNSS antennas and headings, body-velocity odometry).
   double MaxMeasurementLatency() const;
   // The ids of the sensors that give an absolute position (the GNSS antennas).
   std::vector<std::string> PositionSensorIds() const;

@@ -126,6 +126,11 @@ struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
   std::string initialization;  // how: "static", "moving (dual antenna)", "moving (gnss course)"
+  // While the estimator has no state (never initialised, or re-initialising after it was lost):
+  // what it is waiting for, one line naming the test that failed and its figures, e.g. "no still
+  // period of 1 s (quietest window: gyro std 0.04 rad/s > 0.01) and no GNSS course (2 fixes)".
+  // Empty while it has a state.
+  std::string waiting_for;
   // Times the estimator found itself lost and started over from the sensors (every GNSS fix
   // gated out for longer than gate_reset_s while the fixes agreed with each other, or an IMU
   // gap), and how it re-initialised each time.

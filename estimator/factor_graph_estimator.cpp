@@ -15,6 +15,19 @@
 #include "estimator/state_estimate.hpp"
 
 namespace statebench::est {
+namespace {
+
+LocalStart LocalStartOf(const EstimatorSensorSetup& setup) {
+  LocalStart local;
+  local.enabled = setup.PositionSensorIds().empty();
+  for (const EstimatorSensor& s : setup.sensors) {
+    local.has_odometry |=
+        s.kind == SensorKind::kBodyVelocity || s.kind == SensorKind::kSpeedEncoder;
+  }
+  return local;
+}
+
+}  // namespace
 
 struct FactorGraphEstimator::Impl {
   Impl(const EstimatorSensorSetup& s, const FactorGraphOptions& o)
@@ -22,7 +35,7 @@ struct FactorGraphEstimator::Impl {
         options(o),
         plan(PlanFactors(setup, o)),
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
-            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX()),
+            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup)),
         intake(setup, FromSeconds(o.ReorderLatency(setup)), o.imu_limits),
         front_end_set(MakeFrontEnds(setup, plan, options, ctx)) {
     for (const auto& f : front_end_set.all) front_ends.push_back(f.get());
@@ -31,6 +44,10 @@ struct FactorGraphEstimator::Impl {
   EstimatorSensorSetup setup;  // the estimator's own copy: the plan and front ends point into it
   std::vector<std::string> position_sensors = setup.PositionSensorIds();
   FactorGraphOptions options;
+  // Without an absolute-position sensor the estimate is in a local frame; its WGS84 position is
+  // that frame placed at options.origin, or at latitude, longitude and height 0 (meaningless:
+  // the status says `local`).
+  LocalEnuFrame local_frame{options.origin.value_or(GeodeticPoint{0.0, 0.0, 0.0})};
   FactorPlan plan;
   FrontEndContext ctx;
   MeasurementIntake intake;
@@ -190,14 +207,20 @@ void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(meas
 
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   const std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
-  const std::optional<LocalEnuFrame>& frame = impl_->front_end_set.gnss->frame();
-  if (!p || !frame) return std::nullopt;
+  const std::optional<LocalEnuFrame>& enu = impl_->front_end_set.gnss->frame();
+  const LocalEnuFrame* frame =
+      impl_->position_sensors.empty() ? &impl_->local_frame : (enu ? &*enu : nullptr);
+  if (!p || frame == nullptr) return std::nullopt;
   std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
   if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
   return out;
 }
 
-EstimatorDiagnostics FactorGraphEstimator::diagnostics() const { return impl_->ctx.diag; }
+EstimatorDiagnostics FactorGraphEstimator::diagnostics() const {
+  EstimatorDiagnostics d = impl_->ctx.diag;
+  if (!impl_->ctx.initialized) d.waiting_for = impl_->ctx.initializer.WaitingFor();
+  return d;
+}
 
 void FactorGraphEstimator::SetVerdictObserver(VerdictObserver observer) {
   impl_->ctx.verdicts = std::move(observer);

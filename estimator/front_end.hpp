@@ -29,17 +29,19 @@ namespace statebench::est {
 // per-sensor counters of the diagnostics. Owned by the orchestrator.
 class FrontEndContext {
  public:
-  // forward_imu: the vehicle's forward axis in the IMU frame (for the moving initialisation).
+  // forward_imu: the vehicle's forward axis in the IMU frame (for the moving initialisation);
+  // local: how a setup without an absolute-position sensor starts.
   FrontEndContext(const SlidingWindowOptions& smoother_options,
                   const InitializationOptions& initialization, const ImuNoise& noise,
-                  const Vec3& forward_imu)
+                  const Vec3& forward_imu, LocalStart local = {})
       : smoother(smoother_options),
-        initializer(initialization, noise, forward_imu),
+        initializer(initialization, noise, forward_imu, local),
         output(noise),
         smoother_options_(smoother_options),
         initialization_(initialization),
         noise_(noise),
-        forward_imu_(forward_imu) {}
+        forward_imu_(forward_imu),
+        local_(local) {}
 
   SlidingWindowSmoother smoother;
   StateInitializer initializer;
@@ -55,7 +57,7 @@ class FrontEndContext {
   void Restart() {
     std::destroy_at(&smoother);
     std::construct_at(&smoother, smoother_options_);
-    initializer = StateInitializer(initialization_, noise_, forward_imu_);
+    initializer = StateInitializer(initialization_, noise_, forward_imu_, local_);
     output = ImuRateOutput(noise_);
     initialized = false;
     lost = false;
@@ -83,6 +85,7 @@ class FrontEndContext {
   InitializationOptions initialization_;
   ImuNoise noise_;
   Vec3 forward_imu_;
+  LocalStart local_;
 };
 
 // How a front end answers for a measurement: not its kind, its kind from a sensor the setup does

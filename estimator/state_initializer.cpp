@@ -5,13 +5,13 @@
 #include <span>
 
 #include "core/so3.hpp"
+#include "estimator/body_velocity_front_end.hpp"
 #include "estimator/imu_preintegration.hpp"
 
 namespace statebench::est {
 namespace {
 
 constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;   // IMU and fixes kept before init
-constexpr double kMaxStillGravityError = 0.5;      // | |f| - g | in a still period, m/s^2
 
 // Mean and per-axis standard deviation of a 3-vector signal.
 struct Moments {
@@ -44,8 +44,8 @@ Quat Triad(const Vec3& b1, const Vec3& r1, const Vec3& b2, const Vec3& r2) {
 }  // namespace
 
 StateInitializer::StateInitializer(const InitializationOptions& options, const ImuNoise& noise,
-                                   const Vec3& forward_imu)
-    : options_(options), noise_(noise), forward_imu_(forward_imu.normalized()) {}
+                                   const Vec3& forward_imu, LocalStart local)
+    : options_(options), noise_(noise), forward_imu_(forward_imu.normalized()), local_(local) {}
 
 void StateInitializer::AddImu(const ImuSample& sample) {
   imu_.push_back(sample);
@@ -60,6 +60,13 @@ void StateInitializer::AddImu(const ImuSample& sample) {
 void StateInitializer::AddPosition(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
   fixes_.push_back({fix, p_imu_antenna});
   while (fixes_.front().fix.header.stamp_ns < fix.header.stamp_ns - kHistoryNs) fixes_.pop_front();
+}
+
+void StateInitializer::AddVelocity(const OdometryVelocity& velocity) {
+  if (!local_.enabled) return;
+  odometry_.push_back(velocity);
+  odometry_since_fit_ = true;
+  while (odometry_.front().t_ns < velocity.t_ns - kHistoryNs) odometry_.pop_front();
 }
 
 void StateInitializer::AddHeading(const DualAntennaHeading& heading, const Vec3& baseline_imu) {
@@ -84,22 +91,49 @@ void StateInitializer::UpdateStill() {
   if (window.size() < 2) return;
   const Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
   const Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  const double gravity_error = std::abs(accel.mean.norm() - kGravity);
+  const double score = std::max(
+      {gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
+       accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
+       gravity_error / kMaxStillGravityError,
+       gyro.mean.norm() / (10.0 * options_.static_max_gyro_std_radps)});
+  if (!still_record_.tested || score < still_record_.score) {
+    still_record_.score = score;
+    still_record_.gyro_std = gyro.std.maxCoeff();
+    still_record_.accel_std = accel.std.maxCoeff();
+    still_record_.gravity_error = gravity_error;
+    still_record_.mean_rate = gyro.mean.norm();
+  }
+  still_record_.tested = true;
   if (gyro.std.maxCoeff() > options_.static_max_gyro_std_radps ||
       accel.std.maxCoeff() > options_.static_max_accel_std_mps2 ||
-      std::abs(accel.mean.norm() - kGravity) > kMaxStillGravityError ||
+      gravity_error > kMaxStillGravityError ||
       gyro.mean.norm() > 10.0 * options_.static_max_gyro_std_radps) {
     still_since_ns_.reset();
     return;
   }
   if (!still_since_ns_) still_since_ns_ = t_begin;
-  // A constant velocity looks still to an IMU: the fixes of the period must not move.
-  for (const Fix& a : fixes_) {
-    if (a.fix.header.stamp_ns < t_begin) continue;
-    const Vec3 d = a.fix.p_enu - fixes_.back().fix.p_enu;
-    const double sigma = std::sqrt(a.fix.covariance(0, 0) + a.fix.covariance(1, 1));
-    if (d.head<2>().norm() > 0.05 + 4.0 * sigma) return;
+  if (local_.enabled) {
+    if (!OdometryProvesStandstill(t_begin, t_end)) {
+      still_record_.not_proven = NotProven::kOdometryMoving;
+      return;
+    }
+  } else {
+    // A constant velocity looks still to an IMU: the fixes of the period must not move.
+    for (const Fix& a : fixes_) {
+      if (a.fix.header.stamp_ns < t_begin) continue;
+      const Vec3 d = a.fix.p_enu - fixes_.back().fix.p_enu;
+      const double sigma = std::sqrt(a.fix.covariance(0, 0) + a.fix.covariance(1, 1));
+      if (d.head<2>().norm() > 0.05 + 4.0 * sigma) {
+        still_record_.not_proven = NotProven::kFixesMoved;
+        return;
+      }
+    }
+    if (!FixesProveStandstill(*still_since_ns_, t_end)) {
+      still_record_.not_proven = NotProven::kFixesNoProof;
+      return;
+    }
   }
-  if (!FixesProveStandstill(*still_since_ns_, t_end)) return;
   Tilt tilt;
   tilt.t_ns = t_end;
   tilt.up_imu = accel.mean.normalized();
@@ -139,6 +173,31 @@ bool StateInitializer::FixesProveStandstill(TimeNs from_ns, TimeNs to_ns) const 
   const Vec2 v = moment / spread;
   const double sigma_v = std::sqrt(variance / spread);
   return v.norm() + 3.0 * sigma_v <= options_.static_max_speed_mps;
+}
+
+bool StateInitializer::OdometryProvesStandstill(TimeNs from_ns, TimeNs to_ns) const {
+  if (!local_.has_odometry) return true;
+  Vec3 sum = Vec3::Zero(), variance_sum = Vec3::Zero();
+  Eigen::Vector3i count = Eigen::Vector3i::Zero();
+  for (const OdometryVelocity& v : odometry_) {
+    if (v.t_ns < from_ns || v.t_ns > to_ns) continue;
+    for (int i = 0; i < 3; ++i) {
+      if (!(v.variance[i] < BodyVelocityFrontEnd::kUnmeasuredVariance)) continue;
+      sum[i] += v.v_frame[i];
+      variance_sum[i] += v.variance[i];
+      ++count[i];
+    }
+  }
+  if (count.maxCoeff() < 2) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (count[i] == 0) continue;
+    const double mean = sum[i] / count[i];
+    if (std::abs(mean) + 3.0 * std::sqrt(variance_sum[i]) / count[i] >
+        options_.static_max_speed_mps) {
+      return false;
+    }
+  }
+  return true;
 }
 
 const StateInitializer::Fix* StateInitializer::EarlierFix(TimeNs min_baseline_ns,
@@ -279,6 +338,7 @@ std::optional<StateInitializer::Anchor> StateInitializer::MovingAnchor(
 }
 
 std::optional<InitialState> StateInitializer::TryInitialize() {
+  if (local_.enabled) return TryInitializeLocal();
   if (imu_.empty() || fixes_.empty()) return std::nullopt;
   const InitializationMode mode = options_.mode;
   const bool use_still = still_.has_value() && mode != InitializationMode::kMoving;

@@ -19,6 +19,14 @@
 // them (exact for any motion once the attitude is known; the accel bias is taken as zero).
 // Covariance: diagonal in roll/pitch/yaw (world frame, mapped to the right perturbation
 // R^T diag(...) R), position from the fix, velocity and biases from the options.
+//
+// Without an absolute-position sensor (no GNSS antenna: LocalStart::enabled) the first state is
+// in a local frame: position 0 and the vehicle's forward axis along x (yaw 0) at the
+// initialisation stamp, both known to kLocalPositionSigmaM / kLocalYawSigmaRad (the prior is
+// what anchors them: neither is observable). Tilt and gyro bias from a still period (the
+// odometry, when the setup has one, must read zero over it), or, while moving, tilt and
+// velocity from the body-frame odometry (odometry_alignment.hpp) over kOdometryWindowS.
+// WaitingFor() says what a start still lacks (the estimator's diagnostics carry it).
 #pragma once
 
 #include <deque>
@@ -33,28 +41,50 @@
 #include "estimator/gnss_enu.hpp"
 #include "estimator/imu_noise.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "estimator/odometry_alignment.hpp"
 
 namespace statebench::est {
 
 struct InitialState {
   NavState state;
   Mat15 covariance = Mat15::Identity();
-  std::string method;  // "static", "moving (dual antenna)", "moving (gnss course)", ...
+  // "static (dual antenna)", "moving (gnss course)", "static (local frame)",
+  // "moving (odometry, local frame)", ...
+  std::string method;
 };
+
+// How a setup without an absolute-position sensor starts (not used when it has one).
+struct LocalStart {
+  bool enabled = false;       // no GNSS antenna: start in a local frame
+  bool has_odometry = false;  // body-frame velocity (body_velocity, speed encoder) in the setup
+};
+
+inline constexpr double kLocalPositionSigmaM = 1e-3;  // prior of the local frame's origin
+inline constexpr double kLocalYawSigmaRad = 1e-3;     // and of its x axis
+inline constexpr double kOdometryWindowS = 1.0;       // odometry fitted by a moving local start
+inline constexpr double kMaxStillGravityError = 0.5;  // | |f| - g | in a still period, m/s^2
 
 class StateInitializer {
  public:
   // forward_imu: the vehicle's forward axis (body +x) in the IMU frame.
   StateInitializer(const InitializationOptions& options, const ImuNoise& noise,
-                   const Vec3& forward_imu);
+                   const Vec3& forward_imu, LocalStart local = {});
 
   // Stamp-ordered input. Samples must have increasing stamps (the caller checked them).
   void AddImu(const ImuSample& sample);
   void AddPosition(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
   void AddHeading(const DualAntennaHeading& heading, const Vec3& baseline_imu);
+  // Body-frame odometry; kept for a local start only (ignored when local().enabled is false).
+  void AddVelocity(const OdometryVelocity& velocity);
+
+  const LocalStart& local() const { return local_; }
 
   // The first state at the newest IMU sample, once tilt, yaw and position are known.
   std::optional<InitialState> TryInitialize();
+
+  // What the start is still waiting for, one line, e.g. "no still period of 1 s (quietest: gyro
+  // std 0.04 rad/s > 0.01) and no GNSS course (2 fixes, longest chord 3.1 m of 5 m)".
+  std::string WaitingFor() const;
 
  private:
   struct Tilt {  // of a still period
@@ -74,6 +104,16 @@ class StateInitializer {
     GnssPositionEnu fix;
     Vec3 p_imu_antenna;
   };
+  // A quiet IMU whose standstill the fixes or the odometry did not prove.
+  enum class NotProven { kNo, kFixesMoved, kFixesNoProof, kOdometryMoving };
+  // The quietest still-test window seen (the largest of its statistics over their thresholds),
+  // for WaitingFor().
+  struct StillRecord {
+    bool tested = false;  // at least one window of static_duration_s
+    double score = 0.0;
+    double gyro_std = 0.0, accel_std = 0.0, gravity_error = 0.0, mean_rate = 0.0;
+    NotProven not_proven = NotProven::kNo;  // the latest quiet window's
+  };
 
   // A state before or at the initialisation stamp (carried to it with the IMU).
   struct Anchor {
@@ -87,6 +127,14 @@ class StateInitializer {
   // Whether the fixes stamped in [from_ns, to_ns] bound the horizontal speed below
   // static_max_speed_mps (least-squares speed + 3 sigma; at least 3 fixes).
   bool FixesProveStandstill(TimeNs from_ns, TimeNs to_ns) const;
+  // Whether the odometry stamped in [from_ns, to_ns] reads zero (each measured component's mean
+  // within static_max_speed_mps, 3 sigma); true without odometry in the setup.
+  bool OdometryProvesStandstill(TimeNs from_ns, TimeNs to_ns) const;
+  // The start in a local frame (state_initializer_local.cpp).
+  std::optional<InitialState> TryInitializeLocal();
+  std::optional<OdometryAlignment> AlignOverOdometryWindow() const;
+  std::string StillWaitingFor() const;
+  std::string LocalWaitingFor() const;
   std::optional<YawReference> CourseReference() const;
   std::optional<Anchor> StaticAnchor(const YawReference& yaw, TimeNs t0_ns) const;
   std::optional<Anchor> MovingAnchor(const YawReference& yaw) const;
@@ -100,8 +148,13 @@ class StateInitializer {
   InitializationOptions options_;
   ImuNoise noise_;
   Vec3 forward_imu_;
+  LocalStart local_;
   std::vector<ImuSample> imu_;
   std::deque<Fix> fixes_;
+  std::deque<OdometryVelocity> odometry_;  // local start only
+  bool odometry_since_fit_ = false;        // a sample arrived since the last odometry fit
+  std::optional<double> fit_gravity_;      // |G| of the last odometry fit that was refused
+  StillRecord still_record_;
   std::optional<Tilt> still_;            // latest still period
   std::optional<TimeNs> still_since_ns_;  // the IMU has looked still since then
   std::optional<YawReference> heading_;  // latest dual-antenna heading

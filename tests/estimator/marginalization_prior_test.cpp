@@ -13,7 +13,7 @@
 namespace statebench::est {
 namespace {
 
-NavState SomeState() {
+NavState MarginalizedTestState() {
   NavState s;
   s.q_world_imu = so3::FromRollPitchYaw(0.1, -0.05, 2.0);
   s.p_world = Vec3(10, 20, 1);
@@ -23,14 +23,14 @@ NavState SomeState() {
   return s;
 }
 
-std::vector<std::vector<double>> Blocks(const NavState& s) {
+std::vector<std::vector<double>> MarginalizedBlocks(const NavState& s) {
   const auto p = StateParameters::FromNavState(s);
   auto v = [](const auto& a) { return std::vector<double>(a.begin(), a.end()); };
   return {v(p.q_world_imu), v(p.p_world), v(p.v_world), v(p.bias)};
 }
 
 Vec15 Evaluate(const ceres::CostFunction& f, const NavState& s) {
-  const auto blocks = Blocks(s);
+  const auto blocks = MarginalizedBlocks(s);
   const double* ptrs[] = {blocks[0].data(), blocks[1].data(), blocks[2].data(), blocks[3].data()};
   Vec15 r;
   f.Evaluate(ptrs, r.data(), nullptr);
@@ -55,9 +55,9 @@ TEST(MarginalizationPrior, ReproducesInformationAndGradientAtTheLinearisationPoi
     for (int i = 0; i < 15; ++i) g(i) = normal(rng);
     // A gradient the information can explain (in its range), as a Schur complement gives.
     g = H * g;
-    const NavState x0 = SomeState();
+    const NavState x0 = MarginalizedTestState();
     const MarginalizationPrior prior(StateParameters::FromNavState(x0), H, g);
-    const auto blocks = Blocks(x0);
+    const auto blocks = MarginalizedBlocks(x0);
     const double* ptrs[] = {blocks[0].data(), blocks[1].data(), blocks[2].data(), blocks[3].data()};
     Vec15 r0;
     Eigen::Matrix<double, 15, 4, Eigen::RowMajor> Jq;
@@ -77,7 +77,7 @@ TEST(MarginalizationPrior, FromCovarianceWhitensByTheCovariance) {
   P.diagonal() << 1e-4, 1e-4, 4e-4, 0.01, 0.01, 0.04, 1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3,
       1e-3, 1e-3;
   P(3, 4) = P(4, 3) = 0.005;
-  const NavState mean = SomeState();
+  const NavState mean = MarginalizedTestState();
   const std::unique_ptr<MarginalizationPrior> prior(MarginalizationPrior::FromCovariance(mean, P));
   EXPECT_LT(Evaluate(*prior, mean).norm(), 1e-12);
   NavState x = mean;
@@ -98,7 +98,7 @@ TEST(MarginalizationPrior, JacobiansMatchNumericDifferencesOnTheManifold) {
   auto rng = MakeRng(62, "marg_prior_jacobians");
   NormalSampler normal;
   const RightQuaternionManifold manifold;
-  const NavState x0 = SomeState();
+  const NavState x0 = MarginalizedTestState();
   const MarginalizationPrior prior(StateParameters::FromNavState(x0), RandomInformation(rng, 15),
                                    Vec15::Constant(0.3));
   double worst = 0.0;
@@ -109,7 +109,7 @@ TEST(MarginalizationPrior, JacobiansMatchNumericDifferencesOnTheManifold) {
     x.p_world += Vec3(normal(rng), normal(rng), normal(rng));
     x.gyro_bias += 0.01 * Vec3(normal(rng), normal(rng), normal(rng));
     const auto check =
-        testing::CheckJacobians(prior, Blocks(x), {&manifold, nullptr, nullptr, nullptr});
+        testing::CheckJacobians(prior, MarginalizedBlocks(x), {&manifold, nullptr, nullptr, nullptr});
     worst = std::max(worst, check.worst_relative_error);
   }
   std::printf("marginalization prior: worst relative Jacobian error %.2e\n", worst);
