@@ -14,6 +14,10 @@ namespace statebench::app {
 std::filesystem::path SetupFileOf(const CliArgs& args, const sensors::LogReader& reader,
                                   const std::filesystem::path& log_dir);
 
+// Exit code of `estimate` and `run` when an estimator produced no estimate (never initialised):
+// everything was written, and stderr names what each such estimator was waiting for.
+inline constexpr int kExitNoEstimate = 3;
+
 // Call inside `catch (...)`: prints the error as the user should see it and returns the exit
 // code: 2 for bad usage (std::invalid_argument) or bad input (InputError), 1 for anything else.
 int ExitCodeForCurrentException(const std::string& command);

@@ -58,6 +58,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
   return {{"initialized", d.initialized},
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
           {"initialization", d.initialization},
+          {"waiting_for", d.waiting_for.empty() ? nlohmann::json() : nlohmann::json(d.waiting_for)},
           {"lost", lost},
           {"sensors", sensors},
           {"updates",

@@ -36,7 +36,8 @@ constexpr const char* kUsage =
     "  and metrics.json when the log holds truth. --config defaults to\n"
     "  scenarios/estimators/<estimator>.yaml, --setup to the log's own sensor setup; the EKF\n"
     "  baseline also needs the vehicle parameters (--vehicle "
-    "scenarios/vehicles/quadricycle.yaml).\n";
+    "scenarios/vehicles/quadricycle.yaml).\n"
+    "  Exit code 3 when the estimator never initialised (stderr says what it waited for).\n";
 
 std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
   const char* src = std::getenv("STATEBENCH_SOURCE_DIR");
@@ -125,12 +126,15 @@ int RunEstimate(const std::vector<std::string>& argv) {
                               {"wall_time_s", wall_s},
                               {"cpu", cpu.Json(feed.estimators(), logged_s)}};
     std::ofstream(out_dir / "profile.json") << profile.dump(2) << "\n";
+    const std::optional<std::string> no_estimate = NoEstimateMessage(fed, score);
     if (has_truth) {
       nlohmann::json& j = score.metrics_json;
       j["estimator"] = fed.estimator->name();
       j["log"] = log_dir.string();
       j["wall_time_s"] = wall_s;
       WriteMetrics(out_dir, score);
+    }
+    if (has_truth && !no_estimate) {
       const reports::TrajectoryMetrics& metrics = score.metrics;
       std::printf(
           "RMSE  x %.3f m  y %.3f m  z %.3f m  yaw %.4f rad  v_long %.3f m/s  | APE %.3f m  "
@@ -140,12 +144,13 @@ int RunEstimate(const std::vector<std::string>& argv) {
           metrics.distance_m);
     }
     if (truth_error) std::fprintf(stderr, "warning: truth: %s\n", truth_error->c_str());
+    if (no_estimate) std::fprintf(stderr, "error: %s\n", no_estimate->c_str());
     if (reader.error()) {
       std::fprintf(stderr, "error: %s (the estimate up to that point was written)\n",
                    reader.error()->c_str());
       return 2;
     }
-    return 0;
+    return no_estimate ? kExitNoEstimate : 0;
   } catch (...) {
     return ExitCodeForCurrentException("estimate");
   }

@@ -80,7 +80,8 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
     if (output) e = f.estimator->StateAt(imu->header.stamp_ns);
     f.time += CurrentStageTimes() - before;
     if (!e) continue;
-    if (frame_)
+    // A local-frame estimate (no GNSS) has no meaningful WGS84 position: kept as it is.
+    if (frame_ && e->status != EstimateStatus::kLocal)
       e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
     {
       const StageScope writing(Stage::kWriting);
@@ -162,6 +163,13 @@ std::vector<EstimatorScore> EstimatorFeed::Finish() {
 void WriteMetrics(const std::filesystem::path& dir, const EstimatorScore& score) {
   const StageScope writing(Stage::kWriting);
   std::ofstream(dir / "metrics.json") << score.metrics_json.dump(2) << "\n";
+}
+
+std::optional<std::string> NoEstimateMessage(const FedEstimator& fed, const EstimatorScore& score) {
+  if (fed.estimates > 0) return std::nullopt;
+  const std::string& why = score.diagnostics.waiting_for;
+  if (why.empty()) return fed.label + " produced no estimate";
+  return fed.label + " never initialised: " + why;
 }
 
 void FeedProgress::Epoch(TimeNs t_ns) {

@@ -93,6 +93,10 @@ class EstimatorFeed {
 // Writes score.metrics_json to dir/metrics.json.
 void WriteMetrics(const std::filesystem::path& dir, const EstimatorScore& score);
 
+// "LABEL never initialised: WAITING_FOR" (or "LABEL produced no estimate") for an estimator
+// that wrote no estimate; nullopt when it wrote some.
+std::optional<std::string> NoEstimateMessage(const FedEstimator& fed, const EstimatorScore& score);
+
 // Updates the bar every 500 output epochs with the simulated time (fraction of end_s).
 class FeedProgress {
  public:

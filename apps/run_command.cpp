@@ -48,7 +48,9 @@ constexpr const char* kUsage =
     "  metrics.json} and DIR/run.json; prints a table of the main metrics. --estimators picks\n"
     "  entries of the list by name or by type. --cache keeps the SUMO result and every sensor's\n"
     "  stream in DIR under a hash of what they depend on and reuses them (same bits; run.json\n"
-    "  counts the hits); the least recently used entries go beyond G GB (default 20).\n";
+    "  counts the hits); the least recently used entries go beyond G GB (default 20).\n"
+    "  Exit code 3 when an estimator never initialised (all else written; stderr says what it\n"
+    "  waited for).\n";
 
 // The scenario's stream faults (outages and injected ones) and how many measurements each hit.
 nlohmann::json FaultsJson(const MeasurementFaultInjector& injector) {
@@ -174,6 +176,7 @@ int RunRun(const std::vector<std::string>& argv) {
                 "yaw [rad]", "v_lon[m/s]", "APE [m]", "NEES(6)", "solve p99");
     nlohmann::json estimators = nlohmann::json::array();
     const std::vector<EstimatorScore> scores = feed.Finish();
+    std::vector<std::string> no_estimate;  // one line per estimator that wrote no estimate
     for (std::size_t i = 0; i < scores.size(); ++i) {
       const FedEstimator& r = feed.estimators()[i];
       EstimatorScore s = scores[i];
@@ -190,6 +193,14 @@ int RunRun(const std::vector<std::string>& argv) {
            {"inputs", r.inputs.empty() ? nlohmann::json("all") : nlohmann::json(r.inputs)},
            {"config", (fs::path(r.label) / "estimator_config.yaml").string()},
            {"metrics", j}});
+      if (const auto message = NoEstimateMessage(r, s)) {
+        // Its metrics are unavailable, not zero (metrics.json: availability).
+        estimators.back()["no_estimate"] = *message;
+        no_estimate.push_back(*message);
+        std::printf("%-16s no estimate: %s\n", r.label.c_str(),
+                    message->substr(r.label.size() + 1).c_str());
+        continue;
+      }
       const reports::TrajectoryMetrics& metrics = s.metrics;
       std::printf("%-16s %8.3f %8.3f %8.3f %9.4f %9.3f %8.3f %8.2f %7.2fms\n", r.label.c_str(),
                   metrics.rmse_x_m, metrics.rmse_y_m, metrics.rmse_z_m, metrics.rmse_yaw_rad,
@@ -213,7 +224,10 @@ int RunRun(const std::vector<std::string>& argv) {
       cache->Prune();
     }
     std::ofstream(out_dir / "run.json") << summary.dump(2) << "\n";
-    return 0;
+    for (const std::string& message : no_estimate) {
+      std::fprintf(stderr, "error: %s\n", message.c_str());
+    }
+    return no_estimate.empty() ? 0 : kExitNoEstimate;
   } catch (...) {
     return ExitCodeForCurrentException("run");
   }

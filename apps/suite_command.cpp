@@ -78,6 +78,7 @@ struct Job {
   double cpu_s = 0.0;  // user + system time of the run process (what an idle machine needs)
   int exit_code = -1;  // -1: not finished
   std::string failure;
+  std::string no_estimate;  // kExitNoEstimate: the run's lines naming the estimators without one
   std::optional<nlohmann::json> run;
 };
 
@@ -158,8 +159,8 @@ std::string LastLine(const fs::path& file) {
   return cr == std::string::npos ? last : last.substr(cr + 1);
 }
 
-// Lines of the log starting with "error:" (the run's message), else its last line.
-std::string FailureOf(const Job& job) {
+// Lines of the log starting with "error:" or "statebench run:" (the run's messages).
+std::string ErrorLines(const Job& job) {
   std::ifstream in(job.dir / "run.log");
   std::string line, errors;
   while (std::getline(in, line)) {
@@ -168,6 +169,12 @@ std::string FailureOf(const Job& job) {
       errors += (errors.empty() ? "" : "\n") + line;
     }
   }
+  return errors;
+}
+
+// The run's error lines, else its last line, after the exit code.
+std::string FailureOf(const Job& job) {
+  const std::string errors = ErrorLines(job);
   const std::string what = errors.empty() ? LastLine(job.dir / "run.log") : errors;
   const std::string code = job.exit_code >= 128
                                ? "killed by signal " + std::to_string(job.exit_code - 128)
@@ -186,7 +193,10 @@ void Finish(Job* job, int status, const rusage& usage) {
   job->wall_s = std::chrono::duration<double>(Clock::now() - job->start).count();
   job->cpu_s = CpuSeconds(usage);
   job->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  if (job->exit_code == 0) {
+  // kExitNoEstimate: the run is complete but an estimator never initialised; its metrics are
+  // unavailable (Table I shows the availability), the others' are there.
+  if (job->exit_code == kExitNoEstimate) job->no_estimate = ErrorLines(*job);
+  if (job->exit_code == 0 || job->exit_code == kExitNoEstimate) {
     try {
       job->run = nlohmann::json::parse(std::ifstream(job->dir / "run.json"));
     } catch (const std::exception& e) {
@@ -229,10 +239,11 @@ void RunAll(std::vector<Job>* jobs, std::size_t jobs_at_once,
         --running;
         ++done;
         if (quiet) break;
-        if (job.exit_code == 0) {
-          std::fprintf(stderr, "%ssuite: [%zu/%zu] %s done in %.1f s (%.2fx real time)\n",
+        if (job.run) {
+          std::fprintf(stderr, "%ssuite: [%zu/%zu] %s done in %.1f s (%.2fx real time)%s%s\n",
                        tty ? "\r\033[K" : "", done, jobs->size(), job.name.c_str(), job.wall_s,
-                       job.run->value("real_time_factor", 0.0));
+                       job.run->value("real_time_factor", 0.0),
+                       job.no_estimate.empty() ? "" : "; ", job.no_estimate.c_str());
         } else {
           std::fprintf(stderr, "%ssuite: [%zu/%zu] %s FAILED after %.1f s (%s): %s\n",
                        tty ? "\r\033[K" : "", done, jobs->size(), job.name.c_str(), job.wall_s,
@@ -283,7 +294,7 @@ nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
   for (const Job& job : jobs) {
     nlohmann::json j = {{"name", job.name},
                         {"file", job.file.string()},
-                        {"status", job.exit_code == 0 ? "ok" : "failed"},
+                        {"status", job.run ? "ok" : "failed"},
                         {"exit_code", job.exit_code},
                         {"wall_time_s", job.wall_s},
                         {"cpu_time_s", job.cpu_s},
@@ -300,6 +311,7 @@ nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
     } else {
       j["failure"] = job.failure;
     }
+    if (!job.no_estimate.empty()) j["no_estimate"] = job.no_estimate;
     scenarios.push_back(j);
   }
   return {{"dir", dir.string()},
@@ -360,6 +372,7 @@ int RunSuite(const std::vector<std::string>& argv) {
             job.name.c_str(), simulated_s, job.wall_s, job.run->value("real_time_factor", 0.0),
             job.cpu_s, job.cpu_s > 0 ? simulated_s / job.cpu_s : 0.0);
         PrintStages(*job.run);
+        if (!job.no_estimate.empty()) std::printf("      %s\n", job.no_estimate.c_str());
       } else {
         ++failed;
         std::printf("  %-22s FAILED  %s\n", job.name.c_str(), job.failure.c_str());

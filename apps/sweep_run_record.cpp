@@ -9,6 +9,8 @@
 #include <sstream>
 #include <vector>
 
+#include "apps/command_support.hpp"
+
 namespace statebench::app {
 namespace {
 
@@ -64,7 +66,9 @@ reports::RunRecord RecordOfFinishedRun(const SweepRun& run, const std::string& s
   if (exit.signal != 0) {
     problem = std::string("killed by signal ") + std::to_string(exit.signal) + " (" +
               strsignal(exit.signal) + ")";
-  } else if (exit.exit_code != 0) {
+  } else if (exit.exit_code != 0 && exit.exit_code != kExitNoEstimate) {
+    // kExitNoEstimate: the run is complete, an estimator never initialised (its metrics say
+    // so: compared 0, counted as unavailable by `results summary`).
     problem = "exit code " + std::to_string(exit.exit_code);
   } else if (!summary) {
     problem = "no readable run.json";
