@@ -5,6 +5,13 @@
 
 namespace statebench::est {
 
+BodyVelocityFrontEnd::BodyVelocityFrontEnd(const EstimatorSensorSetup& setup,
+                                           const FactorGraphOptions& options, FrontEndContext& ctx)
+    : setup_(setup),
+      options_(options),
+      ctx_(ctx),
+      gyro_noise_density_(setup.imu_noise.value_or(options.imu_noise).gyro_noise_density) {}
+
 Claim BodyVelocityFrontEnd::Claims(const Measurement& m) const {
   if (!std::holds_alternative<BodyVelocity>(m)) return Claim::kOtherKind;
   const EstimatorSensor* s = setup_.Find(HeaderOf(m).sensor_id);
@@ -51,6 +58,70 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
   }
   ctx_.Accept(id, v.header.stamp_ns);
   ctx_.Count(id, "body_velocity_factors");
+  if (!options_.zero_velocity.enabled) return;
+  if (!ReadsZero(v)) {
+    zero_since_ns_.reset();
+    recent_imu_.clear();
+    return;
+  }
+  if (zero_since_ns_) AddZeroRate(id, v.header.stamp_ns);
+  zero_since_ns_ = v.header.stamp_ns;
+  recent_imu_.clear();
+}
+
+void BodyVelocityFrontEnd::OnImu(const ImuSample& sample) {
+  if (zero_since_ns_ && sample.header.stamp_ns > *zero_since_ns_) recent_imu_.push_back(sample);
+}
+
+void BodyVelocityFrontEnd::OnRestart() {
+  zero_since_ns_.reset();
+  recent_imu_.clear();
+}
+
+bool BodyVelocityFrontEnd::ReadsZero(const BodyVelocity& v) const {
+  const double max_speed = options_.zero_velocity.max_encoder_speed_mps;
+  bool measured = false;
+  for (int i = 0; i < 3; ++i) {
+    if (!(v.covariance(i, i) < kUnmeasuredVariance)) continue;
+    measured = true;
+    if (std::abs(v.velocity[i]) > max_speed) return false;
+  }
+  // A turn on the spot moves no point of the axle: the wheels' yaw rate, when measured, must be
+  // zero too (to a wheel speed difference of max_speed over a 1 m track).
+  if (v.covariance(5, 5) < kUnmeasuredVariance && std::abs(v.angular_velocity.z()) > max_speed) {
+    return false;
+  }
+  return measured;
+}
+
+void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {
+  const ZeroVelocityOptions& z = options_.zero_velocity;
+  if (recent_imu_.size() < 3) return;
+  Vec3 mean_g = Vec3::Zero(), mean_a = Vec3::Zero();
+  for (const ImuSample& s : recent_imu_) {
+    mean_g += s.gyro;
+    mean_a += s.accel;
+  }
+  const double n = static_cast<double>(recent_imu_.size());
+  mean_g /= n;
+  mean_a /= n;
+  Vec3 var_g = Vec3::Zero(), var_a = Vec3::Zero();
+  for (const ImuSample& s : recent_imu_) {
+    var_g += (s.gyro - mean_g).cwiseAbs2();
+    var_a += (s.accel - mean_a).cwiseAbs2();
+  }
+  if ((var_g / (n - 1)).cwiseSqrt().maxCoeff() > z.max_gyro_std_radps ||
+      (var_a / (n - 1)).cwiseSqrt().maxCoeff() > z.max_accel_std_mps2) {
+    return;
+  }
+  const auto predicted = ctx_.PredictAt(t_ns);
+  if (!predicted || (mean_g - predicted->state.gyro_bias).norm() > kMaxStillRateRadps) return;
+  const double span_s = ToSeconds(recent_imu_.back().header.stamp_ns - *zero_since_ns_);
+  if (!(span_s > 0.0)) return;
+  const double sigma = gyro_noise_density_ / std::sqrt(span_s);
+  if (ctx_.smoother.AddZeroRate(t_ns, mean_g, sigma, RobustKernel{}) != AddResult::kTooOld) {
+    ctx_.Count(id, "zero_rate_factors");
+  }
 }
 
 }  // namespace statebench::est

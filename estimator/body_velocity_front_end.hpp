@@ -5,7 +5,19 @@
 // what they do not measure) carries no information. The angular velocity is not used: the IMU
 // measures it better. Before the first state of a setup without GNSS, the samples go to the
 // initialiser (a moving start in a local frame, or the proof of a standstill).
+//
+// Wheel odometry reads exactly zero when the wheels stand (no encoder tick): two consecutive
+// samples whose measured components are all below zero_velocity.max_encoder_speed_mps (and
+// whose angular rate about z, when measured, too), with the IMU quiet between them (the
+// zero-velocity thresholds), and its mean rate within kMaxStillRateRadps of the estimated gyro
+// bias (not a steady turn on the spot), prove a standstill over that span: the mean gyro is
+// then a measurement of the gyro bias (zero_rate_factor.hpp, Huber kernel), counted as
+// `zero_rate_factors`. Without an absolute heading it is what keeps the gyro's z bias, hence
+// the yaw, from drifting.
 #pragma once
+
+#include <optional>
+#include <vector>
 
 #include "estimator/front_end.hpp"
 
@@ -15,17 +27,29 @@ class BodyVelocityFrontEnd final : public MeasurementFrontEnd {
  public:
   static constexpr double kUnmeasuredVariance = 1e2;  // (m/s)^2
   static constexpr double kMinSigmaMps = 1e-3;        // floor of a reported sigma
+  static constexpr double kMaxStillRateRadps = 0.02;  // |mean gyro - bias| of a standstill
 
-  // `setup` must outlive the front end.
-  BodyVelocityFrontEnd(const EstimatorSensorSetup& setup, FrontEndContext& ctx)
-      : setup_(setup), ctx_(ctx) {}
+  // `setup` and `options` must outlive the front end.
+  BodyVelocityFrontEnd(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
+                       FrontEndContext& ctx);
 
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
+  void OnImu(const ImuSample& sample) override;
+  void OnRestart() override;
 
  private:
+  // Whether v reads zero (every measured component, and the yaw rate if measured).
+  bool ReadsZero(const BodyVelocity& v) const;
+  // The zero-rate factor over the IMU samples since the previous sample of sensor `id`.
+  void AddZeroRate(const std::string& id, TimeNs t_ns);
+
   const EstimatorSensorSetup& setup_;
+  const FactorGraphOptions& options_;
   FrontEndContext& ctx_;
+  double gyro_noise_density_;
+  std::optional<TimeNs> zero_since_ns_;  // the previous sample read zero, at this stamp
+  std::vector<ImuSample> recent_imu_;    // released samples after zero_since_ns_
 };
 
 }  // namespace statebench::est

@@ -18,7 +18,7 @@ FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& p
   set.all.push_back(std::move(motion));
   set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx));
   set.all.push_back(std::move(gnss));
-  set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, ctx));
+  set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, options, ctx));
   return set;
 }
 

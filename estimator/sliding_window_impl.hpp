@@ -26,13 +26,16 @@
 #include "estimator/so3_manifold.hpp"
 #include "estimator/sqrt_information.hpp"
 #include "estimator/state_parameters.hpp"
+#include "estimator/zero_rate_factor.hpp"
 
 namespace statebench::est {
 
 struct SlidingWindowSmoother::Impl {
   static constexpr std::ptrdiff_t kPreintegrationContextSamples = 3;
 
-  enum class FactorKind { kPrior, kImu, kBias, kGnss, kHeading, kRelativePose, kVelocity };
+  enum class FactorKind {
+    kPrior, kImu, kBias, kGnss, kHeading, kRelativePose, kVelocity, kZeroRate
+  };
 
   struct Factor {
     FactorKind kind;
@@ -205,7 +208,7 @@ struct SlidingWindowSmoother::Impl {
   void FlushPending() {
     const TimeNs newest = imu.back().header.stamp_ns;
     for (FactorKind kind : {FactorKind::kGnss, FactorKind::kHeading, FactorKind::kVelocity,
-                            FactorKind::kRelativePose}) {
+                            FactorKind::kRelativePose, FactorKind::kZeroRate}) {
       std::erase_if(pending, [&](const Pending& p) {
         if (p.kind != kind || p.ready_ns > newest) return false;
         if (Node* anchor = Anchor(p.anchor_ns)) {

@@ -129,6 +129,19 @@ AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocity
                 [&s, t_ns, m, kernel](Impl::Node& a) { s.AttachVelocity(a, t_ns, m, kernel); }});
 }
 
+AddResult SlidingWindowSmoother::AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps,
+                                             double sigma_radps, const RobustKernel& kernel) {
+  Impl& s = *impl_;
+  if (!initialized()) throw InputError("sliding window smoother: zero rate before initialization");
+  [[maybe_unused]] const ZeroRateFactor validated(mean_gyro_radps, sigma_radps);  // or throws
+  return s.Add({Impl::FactorKind::kZeroRate, t_end_ns, t_end_ns,
+                [&s, mean_gyro_radps, sigma_radps, kernel](Impl::Node& a) {
+                  s.AddFactor(a, Impl::FactorKind::kZeroRate,
+                              new ZeroRateFactor(mean_gyro_radps, sigma_radps),
+                              kernel.MakeLossFunction().release(), {a.x.bias.data()});
+                }});
+}
+
 SmootherSolveSummary SlidingWindowSmoother::Solve() {
   Impl& m = *impl_;
   SmootherSolveSummary out;
@@ -157,6 +170,7 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
       out.num_heading_factors += f.kind == Impl::FactorKind::kHeading;
       out.num_relative_pose_factors += f.kind == Impl::FactorKind::kRelativePose;
       out.num_velocity_factors += f.kind == Impl::FactorKind::kVelocity;
+      out.num_zero_rate_factors += f.kind == Impl::FactorKind::kZeroRate;
     }
   }
   const TimeNs window_ns = FromSeconds(m.options.window_s);

@@ -64,6 +64,7 @@ struct SmootherSolveSummary {
   int num_heading_factors = 0;
   int num_relative_pose_factors = 0;
   int num_velocity_factors = 0;
+  int num_zero_rate_factors = 0;
   int num_dropped_pending = 0;  // waiting measurements the window passed before the IMU came
 };
 
@@ -104,6 +105,11 @@ class SlidingWindowSmoother {
   // gyro at the stamp (m.gyro_raw) is filled in from the IMU buffer. Same pending rules.
   AddResult AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
                             const RobustKernel& kernel);
+  // Mean raw gyro over a still span ending at t_end_ns (zero_rate_factor.hpp): a measurement of
+  // the gyro bias of the state the span's end belongs to. Same pending rules. InputError on a
+  // non-finite mean or a sigma that is not positive.
+  AddResult AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps, double sigma_radps,
+                        const RobustKernel& kernel);
 
   // Optimises the window, then marginalises the states that left it.
   SmootherSolveSummary Solve();

@@ -21,7 +21,8 @@ inline UpdateDiagnostics SolveDiagnostics(const SmootherSolveSummary& summary, T
                {"gnss", summary.num_gnss_factors},
                {"heading", summary.num_heading_factors},
                {"relative_pose", summary.num_relative_pose_factors},
-               {"velocity", summary.num_velocity_factors}};
+               {"velocity", summary.num_velocity_factors},
+               {"zero_rate", summary.num_zero_rate_factors}};
   return u;
 }
 

@@ -109,7 +109,7 @@ TEST(FrontEnds, EachClaimsItsOwnKindAndSensors) {
   GnssFrontEnd gnss(f.setup, f.options, f.ctx);
   EncoderFrontEnd encoders(f.setup, f.plan, f.options, f.ctx);
   LidarFrontEnd lidar(f.setup, f.plan, f.options, f.ctx);
-  BodyVelocityFrontEnd odometry(f.setup, f.ctx);
+  BodyVelocityFrontEnd odometry(f.setup, f.options, f.ctx);
   EXPECT_EQ(gnss.Claims(At<GnssFix>("gnss", 0)), Claim::kTaken);
   EXPECT_EQ(gnss.Claims(At<GnssFix>("speed", 0)), Claim::kUnknownSensor);
   EXPECT_EQ(gnss.Claims(At<VehicleSpeed>("speed", 0)), Claim::kOtherKind);
@@ -136,7 +136,7 @@ TEST(FrontEnds, BeforeTheFirstStateMeasurementsFeedTheInitialiserOrAreCounted) {
   EXPECT_EQ(Rejected(f.ctx, "speed", RejectReason::kNotInitialized), 1u);
   ASSERT_TRUE(encoders.last_speed().has_value());  // kept for the moving initialisation
   EXPECT_DOUBLE_EQ(encoders.last_speed()->second, 2.0);
-  BodyVelocityFrontEnd odometry(f.setup, f.ctx);
+  BodyVelocityFrontEnd odometry(f.setup, f.options, f.ctx);
   odometry.Process(At<BodyVelocity>("odom", FromSeconds(1.0)));
   EXPECT_EQ(Rejected(f.ctx, "odom", RejectReason::kNotInitialized), 1u);
   // The kinematic factor switched off: the steering encoder is counted as disabled.
