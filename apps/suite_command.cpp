@@ -242,8 +242,8 @@ void RunAll(std::vector<Job>* jobs, std::size_t jobs_at_once,
         if (job.run) {
           std::fprintf(stderr, "%ssuite: [%zu/%zu] %s done in %.1f s (%.2fx real time)%s%s\n",
                        tty ? "\r\033[K" : "", done, jobs->size(), job.name.c_str(), job.wall_s,
-                       job.run->value("real_time_factor", 0.0),
-                       job.no_estimate.empty() ? "" : "; ", job.no_estimate.c_str());
+                       job.run->value("real_time_factor", 0.0), job.no_estimate.empty() ? "" : "; ",
+                       job.no_estimate.c_str());
         } else {
           std::fprintf(stderr, "%ssuite: [%zu/%zu] %s FAILED after %.1f s (%s): %s\n",
                        tty ? "\r\033[K" : "", done, jobs->size(), job.name.c_str(), job.wall_s,

@@ -65,9 +65,9 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
     OdometryVelocity o;
     o.t_ns = v.header.stamp_ns;
     o.v_frame = Vec3(v.speed_mps, 0.0, 0.0);
-    o.variance = Vec3(options_.kinematic.speed_sigma_mps * options_.kinematic.speed_sigma_mps,
-                      BodyVelocityFrontEnd::kUnmeasuredVariance,
-                      BodyVelocityFrontEnd::kUnmeasuredVariance);
+    o.variance =
+        Vec3(options_.kinematic.speed_sigma_mps * options_.kinematic.speed_sigma_mps,
+             BodyVelocityFrontEnd::kUnmeasuredVariance, BodyVelocityFrontEnd::kUnmeasuredVariance);
     o.p_imu_point = plan_.T_imu_axle.translation();
     o.q_imu_frame = plan_.T_imu_axle.rotation();
     ctx_.initializer.AddVelocity(o);

@@ -58,8 +58,8 @@ std::optional<OdometryAlignment> AlignWithOdometry(std::span<const ImuSample> im
     Mat3 dR = Mat3::Identity();
     Vec3 dv = Vec3::Zero();
     if (v.t_ns > t_a) {
-      const ImuPreintegration pim = ImuPreintegration::FromSamples(
-          imu, t_a, v.t_ns, noise, ImuBias{gyro_bias, Vec3::Zero()});
+      const ImuPreintegration pim =
+          ImuPreintegration::FromSamples(imu, t_a, v.t_ns, noise, ImuBias{gyro_bias, Vec3::Zero()});
       dR = pim.delta_R();
       dv = pim.delta_v();
     }

@@ -37,12 +37,12 @@ struct OdometryVelocity {
 };
 
 struct OdometryAlignment {
-  TimeNs t_a_ns = 0;                // the window's first odometry stamp
-  TimeNs t_b_ns = 0;                // and its last
-  Vec3 up_imu = Vec3::UnitZ();      // world up in the IMU frame at t_a (unit)
-  double gravity_mps2 = 0.0;        // |G|, a check of the fit (g if all is well)
-  Vec3 u_imu = Vec3::Zero();        // IMU velocity in the IMU frame at t_a, m/s
-  Mat6 covariance = Mat6::Zero();   // of (u_a, G) from the odometry noise
+  TimeNs t_a_ns = 0;               // the window's first odometry stamp
+  TimeNs t_b_ns = 0;               // and its last
+  Vec3 up_imu = Vec3::UnitZ();     // world up in the IMU frame at t_a (unit)
+  double gravity_mps2 = 0.0;       // |G|, a check of the fit (g if all is well)
+  Vec3 u_imu = Vec3::Zero();       // IMU velocity in the IMU frame at t_a, m/s
+  Mat6 covariance = Mat6::Zero();  // of (u_a, G) from the odometry noise
 };
 
 inline constexpr double kUnmeasuredSigmaMps = 0.2;

@@ -34,7 +34,14 @@ struct SlidingWindowSmoother::Impl {
   static constexpr std::ptrdiff_t kPreintegrationContextSamples = 3;
 
   enum class FactorKind {
-    kPrior, kImu, kBias, kGnss, kHeading, kRelativePose, kVelocity, kZeroRate
+    kPrior,
+    kImu,
+    kBias,
+    kGnss,
+    kHeading,
+    kRelativePose,
+    kVelocity,
+    kZeroRate
   };
 
   struct Factor {

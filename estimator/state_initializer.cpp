@@ -11,7 +11,7 @@
 namespace statebench::est {
 namespace {
 
-constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;   // IMU and fixes kept before init
+constexpr TimeNs kHistoryNs = 60 * kNsPerSecond;  // IMU and fixes kept before init
 
 // Mean and per-axis standard deviation of a 3-vector signal.
 struct Moments {
@@ -92,11 +92,10 @@ void StateInitializer::UpdateStill() {
   const Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
   const Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
   const double gravity_error = std::abs(accel.mean.norm() - kGravity);
-  const double score = std::max(
-      {gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
-       accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
-       gravity_error / kMaxStillGravityError,
-       gyro.mean.norm() / (10.0 * options_.static_max_gyro_std_radps)});
+  const double score = std::max({gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
+                                 accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
+                                 gravity_error / kMaxStillGravityError,
+                                 gyro.mean.norm() / (10.0 * options_.static_max_gyro_std_radps)});
   if (!still_record_.tested || score < still_record_.score) {
     still_record_.score = score;
     still_record_.gyro_std = gyro.std.maxCoeff();

@@ -3,8 +3,9 @@
 // Attitude = tilt (gravity direction in the IMU frame) + yaw (a horizontal reference direction):
 //  - Tilt, static: over a still period (per-axis std of gyro and accel below thresholds, |f|
 //    near g, and the GNSS fixes since the IMU began to look so proving a standstill: a constant
-//    velocity looks still to an IMU) the specific force is f = R^T (0, 0, g) + b_a, so the up axis in the IMU frame is
-//    f_mean / |f_mean| (the accel bias tilts it by |b_a| / g) and the gyro bias is the mean rate.
+//    velocity looks still to an IMU) the specific force is f = R^T (0, 0, g) + b_a, so the up axis
+//    in the IMU frame is f_mean / |f_mean| (the accel bias tilts it by |b_a| / g) and the gyro bias
+//    is the mean rate.
 //  - Attitude, moving: three fixes a, m, b of one antenna and the IMU preintegrated from a give
 //    an exact vector observation of R_a (mostly gravity plus whatever the vehicle accelerated,
 //    independent of the dynamics; see MovingAnchor), and the yaw reference a second one: TRIAD.

@@ -16,7 +16,8 @@ std::optional<OdometryAlignment> StateInitializer::AlignOverOdometryWindow() con
   if (end == odometry_.begin()) return std::nullopt;
   const TimeNs t_b = std::prev(end)->t_ns;
   auto begin = end;
-  while (begin != odometry_.begin() && std::prev(begin)->t_ns >= t_b - FromSeconds(kOdometryWindowS) &&
+  while (begin != odometry_.begin() &&
+         std::prev(begin)->t_ns >= t_b - FromSeconds(kOdometryWindowS) &&
          std::prev(begin)->t_ns >= t_imu_begin) {
     --begin;
   }
@@ -46,7 +47,8 @@ std::optional<InitialState> StateInitializer::TryInitializeLocal() {
     x.gyro_bias = still_->gyro_bias;
     sigma_tilt = o.roll_pitch_sigma_rad;
     sigma_bg = std::max(2.0 * noise_.gyro_noise_density / std::sqrt(o.static_duration_s), 1e-4);
-    velocity_covariance = o.static_velocity_sigma_mps * o.static_velocity_sigma_mps * Mat3::Identity();
+    velocity_covariance =
+        o.static_velocity_sigma_mps * o.static_velocity_sigma_mps * Mat3::Identity();
     method = "static (local frame)";
   } else {
     if (!odometry_since_fit_) return std::nullopt;
@@ -75,8 +77,9 @@ std::optional<InitialState> StateInitializer::TryInitializeLocal() {
     Eigen::Matrix<double, 3, 6> J;
     J << Mat3::Identity(), ToSeconds(t_data - x.t_ns) * Mat3::Identity();
     const Mat3 R_a = x.q_world_imu.toRotationMatrix();
-    velocity_covariance = 4.0 * R_a * J * fit->covariance * J.transpose() * R_a.transpose() +
-                          o.static_velocity_sigma_mps * o.static_velocity_sigma_mps * Mat3::Identity();
+    velocity_covariance =
+        4.0 * R_a * J * fit->covariance * J.transpose() * R_a.transpose() +
+        o.static_velocity_sigma_mps * o.static_velocity_sigma_mps * Mat3::Identity();
     sigma_tilt = o.moving_roll_pitch_sigma_rad;
     sigma_bg = o.gyro_bias_sigma_radps;
     method = "moving (odometry, local frame)";
@@ -88,8 +91,8 @@ std::optional<InitialState> StateInitializer::TryInitializeLocal() {
   // The local frame: the vehicle's forward axis along x and the IMU at the origin at t0 (a
   // rotation of the whole state about the vertical).
   const Vec3 forward_world = out.state.q_world_imu * forward_imu_;
-  const Quat q_yaw(Eigen::AngleAxisd(-std::atan2(forward_world.y(), forward_world.x()),
-                                     Vec3::UnitZ()));
+  const Quat q_yaw(
+      Eigen::AngleAxisd(-std::atan2(forward_world.y(), forward_world.x()), Vec3::UnitZ()));
   out.state.q_world_imu = (q_yaw * out.state.q_world_imu).normalized();
   out.state.v_world = q_yaw * out.state.v_world;
   out.state.p_world.setZero();

@@ -29,8 +29,7 @@ std::string StateInitializer::StillWaitingFor() const {
   const InitializationOptions& o = options_;
   std::string out = "no still period of " + Format("%g", o.static_duration_s) + " s";
   if (!still_record_.tested) {
-    const double held_s =
-        ToSeconds(imu_.back().header.stamp_ns - imu_.front().header.stamp_ns);
+    const double held_s = ToSeconds(imu_.back().header.stamp_ns - imu_.front().header.stamp_ns);
     return out + " (only " + Format("%.2f", held_s) + " s of IMU data)";
   }
   const StillRecord& r = still_record_;
@@ -85,9 +84,8 @@ std::string StateInitializer::WaitingFor() const {
     const Fix& b = fixes_.back();
     double best_ratio = -1.0, best_length = 0.0, best_needed = 0.0;
     for (auto it = std::next(fixes_.rbegin()); it != fixes_.rend(); ++it) {
-      const double sigma_h =
-          std::sqrt(0.5 * (b.fix.covariance(0, 0) + b.fix.covariance(1, 1) +
-                           it->fix.covariance(0, 0) + it->fix.covariance(1, 1)));
+      const double sigma_h = std::sqrt(0.5 * (b.fix.covariance(0, 0) + b.fix.covariance(1, 1) +
+                                              it->fix.covariance(0, 0) + it->fix.covariance(1, 1)));
       const double needed = std::max(options_.course_min_distance_m, 15.0 * sigma_h);
       const double length = (b.fix.p_enu - it->fix.p_enu).head<2>().norm();
       if (length / needed > best_ratio) {

@@ -46,8 +46,8 @@ class NoEstimateExit : public ::testing::Test {
 
   Outcome Statebench(const std::string& args) const {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string command = std::string(STATEBENCH_BIN) + " " + args + " > " + out.string() +
-                                " 2> " + err.string();
+    const std::string command =
+        std::string(STATEBENCH_BIN) + " " + args + " > " + out.string() + " 2> " + err.string();
     const int status = std::system(command.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(out), ReadText(err)};
   }
@@ -95,8 +95,8 @@ TEST_F(NoEstimateExit, EstimateSaysWhatEachEstimatorWaitedFor) {
   const fs::path log = WriteStillLog(
       "no_fix", 0.04, "  - {type: gnss, id: gnss, T_body_sensor: {translation: [0, 0, 1.2]}}\n",
       false);
-  const Outcome fg = Statebench("estimate " + log.string() + " --quiet --out " +
-                                (dir_ / "fg").string());
+  const Outcome fg =
+      Statebench("estimate " + log.string() + " --quiet --out " + (dir_ / "fg").string());
   EXPECT_EQ(fg.exit_code, 3) << fg.out << fg.err;
   const std::string prefix = "error: factor_graph never initialised: ";
   ASSERT_NE(fg.err.find(prefix), std::string::npos) << fg.err;
@@ -110,10 +110,9 @@ TEST_F(NoEstimateExit, EstimateSaysWhatEachEstimatorWaitedFor) {
   EXPECT_EQ(diag["waiting_for"], why);
   EXPECT_TRUE(fs::exists(dir_ / "fg" / "estimate.csv"));
 
-  const Outcome ekf =
-      Statebench("estimate " + log.string() + " --estimator ekf --vehicle " +
-                 fs::absolute("scenarios/vehicles/quadricycle.yaml").string() + " --quiet --out " +
-                 (dir_ / "ekf").string());
+  const Outcome ekf = Statebench("estimate " + log.string() + " --estimator ekf --vehicle " +
+                                 fs::absolute("scenarios/vehicles/quadricycle.yaml").string() +
+                                 " --quiet --out " + (dir_ / "ekf").string());
   EXPECT_EQ(ekf.exit_code, 3) << ekf.out << ekf.err;
   EXPECT_NE(ekf.err.find("error: ekf never initialised: no GNSS fix of gnss"), std::string::npos)
       << ekf.err;
@@ -125,8 +124,8 @@ TEST_F(NoEstimateExit, ImuAndWheelOdometryStartInALocalFrame) {
       "  - {type: body_velocity, id: wheel_odom, rate_hz: 10, latency_s: 0.02, T_body_sensor: "
       "{translation: [0, 0, 0]}}\n",
       true);
-  const Outcome run = Statebench("estimate " + log.string() + " --quiet --out " +
-                                 (dir_ / "robot_est").string());
+  const Outcome run =
+      Statebench("estimate " + log.string() + " --quiet --out " + (dir_ / "robot_est").string());
   EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
   const nlohmann::json diag =
       nlohmann::json::parse(ReadText(dir_ / "robot_est" / "diagnostics.json"));
@@ -146,9 +145,9 @@ TEST_F(NoEstimateExit, ImuAndWheelOdometryStartInALocalFrame) {
 
 TEST_F(NoEstimateExit, RunWritesEveryResultAndNamesTheEstimatorsWithoutOne) {
   // One second of the setup-1 scenario: neither estimator has started yet.
-  const Outcome run = Statebench(
-      "run scenarios/extra/setup1_quadricycle_nolidar.yaml --duration 1 --quiet --out " +
-      (dir_ / "run").string());
+  const Outcome run =
+      Statebench("run scenarios/extra/setup1_quadricycle_nolidar.yaml --duration 1 --quiet --out " +
+                 (dir_ / "run").string());
   EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
   EXPECT_NE(run.err.find("error: factor_graph never initialised: "), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("error: ekf never initialised: "), std::string::npos) << run.err;
@@ -160,9 +159,9 @@ TEST_F(NoEstimateExit, RunWritesEveryResultAndNamesTheEstimatorsWithoutOne) {
     EXPECT_EQ(e["metrics"]["availability"]["estimates"], 0);
     const std::string label = e["label"];
     EXPECT_TRUE(fs::exists(dir_ / "run" / label / "metrics.json"));
-    EXPECT_FALSE(nlohmann::json::parse(ReadText(dir_ / "run" / label / "diagnostics.json"))
-                     ["waiting_for"]
-                         .is_null());
+    EXPECT_FALSE(
+        nlohmann::json::parse(ReadText(dir_ / "run" / label / "diagnostics.json"))["waiting_for"]
+            .is_null());
   }
 }
 

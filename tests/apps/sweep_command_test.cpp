@@ -196,6 +196,31 @@ TEST_F(SweepCommandTest, AFailingRunIsRecordedAndTheSweepGoesOn) {
   EXPECT_EQ(failed, 1);
 }
 
+TEST_F(SweepCommandTest, ARunWhoseEstimatorNeverStartsIsCompleteAndItsFiguresUnavailable) {
+  // One second: the EKF has no GNSS course yet; its run exits with 3 (an estimator without an
+  // estimate) and is recorded as a complete run whose EKF figures are unavailable.
+  std::ofstream(dir_ / "short.yaml")
+      << "name: short\n"
+      << "scenarios: [" << fs::absolute("scenarios/extra/setup1_quadricycle_nolidar.yaml").string()
+      << "]\n"
+      << "seeds: [5]\n"
+      << "duration_s: 1\n"
+      << "estimators: [ekf]\n";
+  const Outcome outcome = Statebench("sweep " + (dir_ / "short.yaml").string() + " --out " +
+                                     (dir_ / "short").string() + " --no-cache");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
+  const std::vector<reports::RunRecord> runs =
+      reports::ResultsStore(dir_ / "short" / "results.db").Runs();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].status, "ok");
+  EXPECT_EQ(runs[0].exit_code, 3);
+  const Outcome summary =
+      Statebench("results summary " + (dir_ / "short" / "results.db").string() + " --format csv");
+  ASSERT_EQ(summary.exit_code, 0) << summary.output;
+  EXPECT_NE(summary.output.find("ekf,1,0,1,"), std::string::npos)
+      << summary.output;  // runs, failed, no estimate
+}
+
 TEST_F(SweepCommandTest, ABadSweepFileStopsBeforeAnyRun) {
   std::ofstream(dir_ / "bad.yaml")
       << "name: bad\n"

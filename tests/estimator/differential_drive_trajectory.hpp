@@ -30,12 +30,11 @@ class DifferentialDriveTrajectory {
  public:
   struct Leg {
     double duration_s = 0.0;
-    double length_m = 0.0;   // a straight leg
-    double turn_rad = 0.0;   // a turn on the spot (left positive)
+    double length_m = 0.0;  // a straight leg
+    double turn_rad = 0.0;  // a turn on the spot (left positive)
   };
 
-  DifferentialDriveTrajectory(std::vector<Leg> legs, const Vec3& p_body_imu,
-                              const Quat& q_body_imu)
+  DifferentialDriveTrajectory(std::vector<Leg> legs, const Vec3& p_body_imu, const Quat& q_body_imu)
       : legs_(std::move(legs)), p_body_imu_(p_body_imu), q_body_imu_(q_body_imu) {
     Vec2 c = Vec2::Zero();
     double yaw = 0.0, t = 0.0;

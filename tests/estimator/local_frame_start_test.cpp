@@ -45,7 +45,7 @@ DifferentialDriveTrajectory RobotDrive(double pause_s) {
   const double half_pi = std::numbers::pi / 2.0;
   for (int k = 0; k < 5; ++k) {
     const double side = k % 2 == 0 ? 1.0 : -1.0;  // left turns, then right turns, ...
-    legs.push_back({40.0, 50.0, 0.0});             // peak 2.5 m/s
+    legs.push_back({40.0, 50.0, 0.0});            // peak 2.5 m/s
     legs.push_back({1.0, 0.0, 0.0});
     legs.push_back({3.0, 0.0, side * half_pi});
     legs.push_back({10.0, 10.0, 0.0});
@@ -172,8 +172,8 @@ RobotRun RunRobot(const DifferentialDriveTrajectory& traj, const std::vector<Mea
     run.not_local += e->status != EstimateStatus::kLocal;
     if (!run.first) {
       run.first = e;
-      q_align = Eigen::AngleAxisd(RobotHeading(truth.q_world_imu) - RobotHeading(e->state.q_world_imu),
-                                  Vec3::UnitZ());
+      q_align = Eigen::AngleAxisd(
+          RobotHeading(truth.q_world_imu) - RobotHeading(e->state.q_world_imu), Vec3::UnitZ());
       p_est0 = e->state.p_world;
       p_truth0 = truth.p_world;
       const Vec3 up_est = e->state.q_world_imu.conjugate() * Vec3::UnitZ();
@@ -187,11 +187,12 @@ RobotRun RunRobot(const DifferentialDriveTrajectory& traj, const std::vector<Mea
     const double error = (p - truth.p_world).head<2>().norm();
     run.max_error_m = std::max(run.max_error_m, error);
     run.end_error_m = error;
-    run.end_yaw_error_rad = so3::WrapAngle(
-        RobotHeading(q_align * e->state.q_world_imu) - RobotHeading(truth.q_world_imu));
+    run.end_yaw_error_rad = so3::WrapAngle(RobotHeading(q_align * e->state.q_world_imu) -
+                                           RobotHeading(truth.q_world_imu));
     // Yaw sigma: the world-z component of the rotation covariance (right perturbation).
     const Mat3 R = e->state.q_world_imu.toRotationMatrix();
-    const Mat3 P_world = R * e->covariance.block<3, 3>(kRotationIndex, kRotationIndex) * R.transpose();
+    const Mat3 P_world =
+        R * e->covariance.block<3, 3>(kRotationIndex, kRotationIndex) * R.transpose();
     run.end_yaw_sigma_rad = std::sqrt(P_world(2, 2));
   }
   run.diagnostics = estimator.diagnostics();
@@ -282,7 +283,8 @@ TEST(LocalFrameStart, EstimatorsWithGnssWithoutFixSayTheyWaitForOne) {
   o.odometry = false;
   const std::vector<Measurement> stream = RobotStream(traj, o);
   const EstimatorSensorSetup setup = ParseEstimatorSensorSetup(YamlNode::LoadString(
-      RobotSetupYaml(false) + "  - {type: gnss, id: gnss, T_body_sensor: {translation: [0, 0, 1]}}\n",
+      RobotSetupYaml(false) +
+          "  - {type: gnss, id: gnss, T_body_sensor: {translation: [0, 0, 1]}}\n",
       "robot_gnss_setup.yaml"));
   FactorGraphEstimator factor_graph(setup, FactorGraphOptions{});
   EkfSingleTrackEstimator ekf(setup, EkfOptions{});

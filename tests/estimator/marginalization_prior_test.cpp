@@ -108,8 +108,8 @@ TEST(MarginalizationPrior, JacobiansMatchNumericDifferencesOnTheManifold) {
         x0.q_world_imu * so3::Exp<double>(0.5 * Vec3(normal(rng), normal(rng), normal(rng)));
     x.p_world += Vec3(normal(rng), normal(rng), normal(rng));
     x.gyro_bias += 0.01 * Vec3(normal(rng), normal(rng), normal(rng));
-    const auto check =
-        testing::CheckJacobians(prior, MarginalizedBlocks(x), {&manifold, nullptr, nullptr, nullptr});
+    const auto check = testing::CheckJacobians(prior, MarginalizedBlocks(x),
+                                               {&manifold, nullptr, nullptr, nullptr});
     worst = std::max(worst, check.worst_relative_error);
   }
   std::printf("marginalization prior: worst relative Jacobian error %.2e\n", worst);
