@@ -195,7 +195,15 @@ void Finish(Job* job, int status, const rusage& usage) {
   job->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   // kExitNoEstimate: the run is complete but an estimator never initialised; its metrics are
   // unavailable (Table I shows the availability), the others' are there.
-  if (job->exit_code == kExitNoEstimate) job->no_estimate = ErrorLines(*job);
+  if (job->exit_code == kExitNoEstimate) {
+    // "error: LABEL never initialised: WHY" lines -> "no estimate: LABEL ...; LABEL ..."
+    std::istringstream lines(ErrorLines(*job));
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.rfind("error: ", 0) == 0) line = line.substr(7);
+      job->no_estimate += (job->no_estimate.empty() ? "no estimate: " : "; ") + line;
+    }
+  }
   if (job->exit_code == 0 || job->exit_code == kExitNoEstimate) {
     try {
       job->run = nlohmann::json::parse(std::ifstream(job->dir / "run.json"));
