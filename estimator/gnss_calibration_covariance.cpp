@@ -1,0 +1,36 @@
+#include "estimator/gnss_calibration_covariance.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace statebench::est {
+namespace {
+
+double Radians(double deg) { return deg * M_PI / 180.0; }
+
+}  // namespace
+
+Mat3 PositionCalibrationCovariance(const GnssCalibrationUncertainty& u, const Quat& q_world_imu,
+                                   const Vec3& v_world, const Vec3& p_imu_antenna) {
+  const double st = u.mount_translation_sigma_m;
+  const double sr = Radians(u.mount_rotation_sigma_deg);
+  const double sc = u.clock_offset_sigma_s;
+  const Vec3 l_world = q_world_imu * p_imu_antenna;
+  Mat3 C = 2.0 * st * st * Mat3::Identity();
+  C += sr * sr * (l_world.squaredNorm() * Mat3::Identity() - l_world * l_world.transpose());
+  C += sc * sc * v_world * v_world.transpose();
+  return C;
+}
+
+HeadingCalibrationVariance HeadingCalibration(const GnssCalibrationUncertainty& u,
+                                              const Vec3& baseline_imu) {
+  const double st = u.mount_translation_sigma_m;
+  const double sr = Radians(u.mount_rotation_sigma_deg);
+  // A baseline shorter than 1 cm is refused elsewhere; the floor only keeps this finite.
+  const double horizontal = std::max(baseline_imu.head<2>().norm(), 0.01);
+  const double length = std::max(baseline_imu.norm(), 0.01);
+  return {2.0 * st * st / (horizontal * horizontal) + sr * sr,
+          2.0 * st * st / (length * length) + sr * sr};
+}
+
+}  // namespace statebench::est

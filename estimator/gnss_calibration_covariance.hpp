@@ -1,0 +1,38 @@
+// What an imperfect calibration adds to the uncertainty of a GNSS measurement.
+//
+// The setup gives each sensor's mount (T_body_sensor) and latency as measured; a real vehicle's
+// are off by about 1-2 cm and 0.2-1 deg when measured by hand, and unsynchronised clocks by a
+// few ms (shared/REFERENCE.md, "Real units are not their datasheet"). The estimator does not
+// estimate these; it widens the measurements they corrupt by what they can do there:
+//  - position fix, antenna lever arm l (IMU frame), IMU attitude R, velocity v (world):
+//      lever arm translation: both mounts (IMU and antenna) off by sigma_t per axis
+//                             -> 2 sigma_t^2 I;
+//      IMU mount rotation:    the lever arm turned by an angle of sigma_r per axis
+//                             -> sigma_r^2 (|l|^2 I - (R l)(R l)^T);
+//      clock offset:          the fix belongs to t + dt -> sigma_c^2 v v^T;
+//  - dual-antenna heading, baseline b (IMU frame): two antenna mounts across the baseline turn
+//    it by 2 sigma_t^2 / |b_horizontal|^2 (rad^2) in yaw (and by the same over |b| in pitch), and
+//    the IMU mount rotation adds sigma_r^2 to both.
+// These errors are constant for a vehicle, not white: widening every measurement by them is
+// the simple, conservative-per-measurement model (they are not averaged down much where the
+// output leans on the newest fixes, as with RTK); estimating them as states is the full answer.
+#pragma once
+
+#include "core/eigen_types.hpp"
+#include "estimator/estimator_config.hpp"
+
+namespace statebench::est {
+
+// Covariance (world frame, m^2) to add to a position fix of the antenna at p_imu_antenna.
+Mat3 PositionCalibrationCovariance(const GnssCalibrationUncertainty& u, const Quat& q_world_imu,
+                                   const Vec3& v_world, const Vec3& p_imu_antenna);
+
+struct HeadingCalibrationVariance {
+  double yaw_rad2 = 0.0;
+  double pitch_rad2 = 0.0;
+};
+// Variances to add to a dual-antenna heading with the baseline main -> aux (IMU frame).
+HeadingCalibrationVariance HeadingCalibration(const GnssCalibrationUncertainty& u,
+                                              const Vec3& baseline_imu);
+
+}  // namespace statebench::est
