@@ -52,8 +52,13 @@ struct FactorGraphEstimator::Impl {
       b = &baseline;
       pitch = front_end_set.gnss->heading_pitch_seen();
     }
-    return CalibrationConsiderCovariance(options.gnss_calibration, state,
-                                         setup.antennas.front().p_imu_antenna, b, pitch);
+    Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
+                                            setup.antennas.front().p_imu_antenna, b, pitch);
+    if (options.non_holonomic.enabled) {
+      C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
+          options.gnss_calibration, setup.T_body_imu.rotation());
+    }
+    return C;
   }
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother

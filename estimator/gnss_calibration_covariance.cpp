@@ -54,4 +54,12 @@ Mat15 CalibrationConsiderCovariance(const GnssCalibrationUncertainty& u, const N
   return C;
 }
 
+Mat3 MotionConstraintConsiderCovariance(const GnssCalibrationUncertainty& u,
+                                        const Quat& q_body_imu) {
+  const double sr = Radians(u.mount_rotation_sigma_deg);
+  const Vec3 up = q_body_imu.conjugate() * Vec3::UnitZ();  // body axes in the IMU frame
+  const Vec3 left = q_body_imu.conjugate() * Vec3::UnitY();
+  return sr * sr * (up * up.transpose() + left * left.transpose());
+}
+
 }  // namespace statebench::est

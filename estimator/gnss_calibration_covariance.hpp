@@ -49,4 +49,10 @@ Mat15 CalibrationConsiderCovariance(const GnssCalibrationUncertainty& u, const N
                                     const Vec3& p_imu_antenna, const Vec3* baseline_imu,
                                     bool baseline_pitch = false);
 
+// Motion constraints in the body frame (non-holonomic: the velocity along the body's forward
+// axis) tie the IMU's attitude to the body as the setup gives it (q_body_imu); an IMU mount
+// turned by mount_rotation_sigma_deg about the body's vertical or lateral axis turns the
+// estimated yaw or pitch by as much. The rotation block (right perturbation) of that share.
+Mat3 MotionConstraintConsiderCovariance(const GnssCalibrationUncertainty& u, const Quat& q_body_imu);
+
 }  // namespace statebench::est

@@ -98,5 +98,20 @@ TEST(GnssCalibrationCovariance, ConsiderCovarianceIsYawAboutTheVerticalAndTheFix
   EXPECT_NEAR(paired_world(2, 2), HeadingCalibration(u, baseline).yaw_rad2, 1e-15);
 }
 
+// An IMU mounted level and straight: the motion constraints' share is the mount's rotation
+// variance about the IMU's z (yaw) and y (pitch) axes, none about x; turned by 90 deg about z,
+// the body's lateral axis is the IMU's x.
+TEST(GnssCalibrationCovariance, MotionConstraintShareIsYawAndPitchAboutTheBodyAxes) {
+  const GnssCalibrationUncertainty u;
+  const double s2 = std::pow(u.mount_rotation_sigma_deg * M_PI / 180.0, 2);
+  const Mat3 level = MotionConstraintConsiderCovariance(u, Quat::Identity());
+  EXPECT_TRUE(level.isApprox(Vec3(0.0, s2, s2).asDiagonal().toDenseMatrix()));
+  const Mat3 turned =
+      MotionConstraintConsiderCovariance(u, Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ())));
+  EXPECT_NEAR(turned(0, 0), s2, 1e-15);
+  EXPECT_NEAR(turned(1, 1), 0.0, 1e-15);
+  EXPECT_NEAR(turned(2, 2), s2, 1e-15);
+}
+
 }  // namespace
 }  // namespace statebench::est
