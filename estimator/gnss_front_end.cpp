@@ -160,6 +160,7 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   }
   heading_gate_ = {std::max(heading_gate_.last_accepted_ns, t), false};
   ctx_.Accept(id, t);
+  heading_pitch_seen_ |= std::isfinite(heading.pitch_sigma_rad) && heading.pitch_sigma_rad > 0.0;
   Accepted a;
   a.stamp_ns = t;
   a.sensor_id = id;
