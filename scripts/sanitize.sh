@@ -26,7 +26,9 @@ while [ $# -gt 0 ]; do
 done
 command -v clang++ >/dev/null || { echo "sanitize: clang++ is needed (bash scripts/setup.sh)" >&2; exit 1; }
 export SUMO_HOME="${SUMO_HOME:-/usr/share/sumo}"
-cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
+generator=()
+if command -v ninja >/dev/null && [ ! -f "$build/Makefile" ]; then generator=(-G Ninja); fi
+cmake -S . -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
   -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DSTATEBENCH_SANITIZE=address,undefined \
   -DSTATEBENCH_SANITIZE_EXCLUDE="$exclude" -DSTATEBENCH_FUZZ=ON \
   -DSTATEBENCH_BUILD_BENCHMARKS=OFF -DSTATEBENCH_FOLDERS="$folders" >"$build.configure.log" 2>&1 ||

@@ -3,6 +3,7 @@
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -161,6 +162,17 @@ std::vector<LidarPoint> ReadLidarPcd(const fs::path& file) {
     if (size < expected) {
       Fail(file, "truncated: " + std::to_string(size) + " bytes, the header announces " +
                      announced + " (" + std::to_string(expected) + " bytes)");
+    }
+  }
+  if (header.data == PcdData::kAscii) {
+    // Each value takes at least one character and one separator (the last may lack it): a file
+    // too short for the announced points is refused before PCL allocates for them.
+    std::uint64_t values_per_point = 0;
+    for (const PcdField& f : header.fields) values_per_point += static_cast<std::uint64_t>(f.count);
+    const std::uint64_t values = header.points * values_per_point;
+    if (values > 0 && size < header.data_offset + 2 * values - 1) {
+      Fail(file, "truncated: " + std::to_string(size - std::min<std::uintmax_t>(size, header.data_offset)) +
+                     " bytes of ascii data cannot hold the header's " + announced);
     }
   }
   if (header.points == 0) return {};

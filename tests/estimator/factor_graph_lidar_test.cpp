@@ -70,16 +70,16 @@ FactorGraphOptions Options() {
   return o;
 }
 
-struct Outcome {
+struct LidarOutcome {
   double max_position_error = 0.0;
   int non_finite = 0;
   int relative_pose_updates = 0;  // solves with lidar factors in the window
   EstimatorDiagnostics diagnostics;
 };
 
-Outcome RunWithLidar(const Scenario& sc, const std::vector<Measurement>& stream, double eval_from_s) {
+LidarOutcome RunWithLidar(const Scenario& sc, const std::vector<Measurement>& stream, double eval_from_s) {
   FactorGraphEstimator estimator(MakeSetup(sc.options, kLidarEntry), Options());
-  Outcome out;
+  LidarOutcome out;
   for (const Measurement& m : stream) {
     estimator.Add(m);
     if (!std::holds_alternative<ImuSample>(m)) continue;
@@ -107,7 +107,7 @@ TEST(FactorGraphLidar, LidarThatStopsSendingLeavesTheOtherSensorsRunning) {
   ScenarioOptions so;
   so.duration_s = 16.0;
   const Scenario sc = MakeScenario(so);
-  const Outcome r = RunWithLidar(sc, WithScans(sc, 4.0, 10.0), 5.0);
+  const LidarOutcome r = RunWithLidar(sc, WithScans(sc, 4.0, 10.0), 5.0);
   const SensorCounters& lidar = r.diagnostics.sensors.at("lidar_roof");
   std::printf("lidar: %llu received, %llu accepted, last accepted %.1f s; %d solves with lidar "
               "factors; max position error %.2e m\n",
@@ -150,7 +150,7 @@ TEST(FactorGraphLidar, UnusableScansAreRejectedWithTheirReason) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   add(7.1, std::vector<LidarPoint>(5000, LidarPoint{nan, 1.f, 2.f, 1.f, 0.01f, 0}));
   add(7.2, std::vector<LidarPoint>(20, LidarPoint{5.f, 1.f, 0.f, 1.f, 0.01f, 0}));
-  const Outcome r = RunWithLidar(sc, stream, 5.0);
+  const LidarOutcome r = RunWithLidar(sc, stream, 5.0);
   const SensorCounters& lidar = r.diagnostics.sensors.at("lidar_roof");
   EXPECT_EQ(r.non_finite, 0);
   EXPECT_EQ(lidar.rejected.at(RejectReason::kRegistrationFailed), 3u);
@@ -182,7 +182,7 @@ TEST(FactorGraphLidar, GarbageScansAreRejectedAndTheLidarResumes) {
     std::vector<Measurement> stream;
     for (const Measurement& m : clean) injector.Apply(m, &stream);
     ASSERT_EQ(injector.affected()[0], 20u);
-    const Outcome r = RunWithLidar(sc, stream, 5.0);
+    const LidarOutcome r = RunWithLidar(sc, stream, 5.0);
     SCOPED_TRACE("variant " + std::to_string(variant));
     EXPECT_EQ(r.non_finite, 0);
     EXPECT_LT(r.max_position_error, 0.02);

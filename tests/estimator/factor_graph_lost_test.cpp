@@ -38,7 +38,7 @@ std::vector<Measurement> ShiftedFixes(const Scenario& sc, const Vec3& offset, do
   return stream;
 }
 
-struct Outcome {
+struct LostOutcome {
   EstimatorDiagnostics diagnostics;
   int non_finite = 0;
   int missing_after_init = 0;        // IMU samples without an estimate once first initialised
@@ -46,11 +46,11 @@ struct Outcome {
   std::map<EstimateStatus, std::pair<double, double>> status_seen;  // first and last time, s
 };
 
-Outcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, const Vec3& final_offset) {
+LostOutcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, const Vec3& final_offset) {
   FactorGraphOptions options;
   options.origin = testing::kTestOrigin;
   FactorGraphEstimator estimator(testing::MakeSetup(sc.options), options);
-  Outcome out;
+  LostOutcome out;
   const double end_s = sc.options.start_s + sc.options.duration_s;
   for (const Measurement& m : stream) {
     estimator.Add(m);
@@ -87,7 +87,7 @@ ScenarioOptions Drive() {
 TEST(FactorGraphLost, FixesThatJumpForGoodMakeItStartOverAndFollowThem) {
   const Scenario sc = MakeScenario(Drive());
   const Vec3 offset(60.0, -25.0, 0.0);
-  const Outcome o = Feed(sc, ShiftedFixes(sc, offset, 35.0, 1e9), offset);
+  const LostOutcome o = Feed(sc, ShiftedFixes(sc, offset, 35.0, 1e9), offset);
   ASSERT_EQ(o.diagnostics.lost.size(), 1u);
   // Lost once the gate has refused the fixes for gate_reset_s (10 s) after the jump.
   EXPECT_GE(ToSeconds(o.diagnostics.lost[0].at_ns), 44.9);
@@ -115,7 +115,7 @@ TEST(FactorGraphLost, FixesThatJumpForGoodMakeItStartOverAndFollowThem) {
 
 TEST(FactorGraphLost, AShortJumpIsRiddenOutWithoutStartingOver) {
   const Scenario sc = MakeScenario(Drive());
-  const Outcome o = Feed(sc, ShiftedFixes(sc, Vec3(100.0, 0.0, 0.0), 35.0, 40.0), Vec3::Zero());
+  const LostOutcome o = Feed(sc, ShiftedFixes(sc, Vec3(100.0, 0.0, 0.0), 35.0, 40.0), Vec3::Zero());
   EXPECT_TRUE(o.diagnostics.lost.empty());
   EXPECT_EQ(o.missing_after_init, 0);
   EXPECT_EQ(o.non_finite, 0);
@@ -139,7 +139,7 @@ TEST(FactorGraphLost, FixesThatDisagreeWithEachOtherDoNotMakeItStartOver) {
     f->latitude_deg = p.latitude_deg;
     f->longitude_deg = p.longitude_deg;
   }
-  const Outcome o = Feed(sc, stream, Vec3::Zero());
+  const LostOutcome o = Feed(sc, stream, Vec3::Zero());
   EXPECT_TRUE(o.diagnostics.lost.empty());
   EXPECT_EQ(o.non_finite, 0);
 }

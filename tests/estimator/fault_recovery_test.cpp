@@ -52,7 +52,7 @@ std::unique_ptr<Estimator> MakeEkf() {
   return std::make_unique<EkfSingleTrackEstimator>(testing::MakeDriveSetup(), EkfOptions());
 }
 
-struct Outcome {
+struct FaultOutcome {
   EstimatorDiagnostics diagnostics;
   int outputs = 0;
   int non_finite = 0;
@@ -66,11 +66,11 @@ struct Outcome {
   }
 };
 
-Outcome Feed(Estimator* estimator, const std::vector<MeasurementFault>& faults) {
+FaultOutcome Feed(Estimator* estimator, const std::vector<MeasurementFault>& faults) {
   const testing::Drive& d = TheDrive();
   MeasurementFaultInjector injector(faults);
   std::vector<Measurement> delivered;
-  Outcome out;
+  FaultOutcome out;
   std::size_t next_truth = 0;
   for (const Measurement& m : d.stream) {
     delivered.clear();
@@ -172,7 +172,7 @@ enum class Family { kNonFinite, kOther };
 
 void CheckFaults(const std::string& estimator, std::unique_ptr<Estimator> (*make)(),
                  Family family) {
-  const Outcome clean = Feed(make().get(), {});
+  const FaultOutcome clean = Feed(make().get(), {});
   ASSERT_GT(clean.outputs, 0);
   ASSERT_EQ(clean.non_finite, 0);
   ASSERT_FALSE(clean.lost);
@@ -180,7 +180,7 @@ void CheckFaults(const std::string& estimator, std::unique_ptr<Estimator> (*make
     if ((c.fault.kind == Kind::kNonFinite) != (family == Family::kNonFinite)) continue;
     SCOPED_TRACE(estimator + " / " + c.name);
     const double scored_from = c.fault.end_s + kRecovery;
-    const Outcome faulty = Feed(make().get(), {c.fault});
+    const FaultOutcome faulty = Feed(make().get(), {c.fault});
     EXPECT_EQ(faulty.non_finite, 0);
     EXPECT_GT(faulty.outputs, 0);
     if (c.expect_rejections) {

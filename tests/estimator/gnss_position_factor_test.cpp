@@ -12,16 +12,16 @@
 namespace statebench::est {
 namespace {
 
-const Vec3 kLever(1.2, -0.4, 1.6);  // antenna in the IMU frame, m
+const Vec3 kLeverArm(1.2, -0.4, 1.6);  // antenna in the IMU frame, m
 
 TEST(GnssPositionFactor, ResidualIsWhitenedAntennaError) {
   const Quat q = so3::FromRollPitchYaw(0.05, -0.02, 2.0);
   const Vec3 p(10.0, -3.0, 1.0);
-  const Vec3 antenna = p + q * kLever;
+  const Vec3 antenna = p + q * kLeverArm;
   Mat3 cov = Mat3::Zero();
   cov.diagonal() << 0.02 * 0.02, 0.03 * 0.03, 0.05 * 0.05;
-  const GnssPositionFactor at_truth(antenna, cov, kLever);
-  const GnssPositionFactor offset(antenna + Vec3(0.02, -0.06, 0.0), cov, kLever);
+  const GnssPositionFactor at_truth(antenna, cov, kLeverArm);
+  const GnssPositionFactor offset(antenna + Vec3(0.02, -0.06, 0.0), cov, kLeverArm);
   const double* params[] = {q.coeffs().data(), p.data()};
   Vec3 r;
   at_truth.Evaluate(params, r.data(), nullptr);
@@ -31,7 +31,7 @@ TEST(GnssPositionFactor, ResidualIsWhitenedAntennaError) {
 
   Mat3 bad = cov;
   bad(2, 2) = -1.0;
-  EXPECT_THROW(GnssPositionFactor(antenna, bad, kLever), InputError);
+  EXPECT_THROW(GnssPositionFactor(antenna, bad, kLeverArm), InputError);
 }
 
 TEST(GnssPositionFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
@@ -45,7 +45,7 @@ TEST(GnssPositionFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
     const Quat q = so3::Exp<double>(Vec3(normal(rng), normal(rng), normal(rng)));
     const Vec3 p(normal(rng), normal(rng), normal(rng));
     const Vec3 z = p + 0.3 * Vec3(normal(rng), normal(rng), normal(rng));
-    const GnssPositionFactor factor(z, cov, kLever);
+    const GnssPositionFactor factor(z, cov, kLeverArm);
     const auto check = testing::CheckJacobians(
         factor, {{q.coeffs().data(), q.coeffs().data() + 4}, {p.data(), p.data() + 3}},
         {&so3_manifold, nullptr});

@@ -17,7 +17,7 @@ namespace {
 
 using testing::HelixTrajectory;
 
-const Vec3 kLever(0.8, 0.3, 1.5);
+const Vec3 kPropagatedLever(0.8, 0.3, 1.5);
 
 // 100 Hz samples of the helix over [0, 3] s, with a constant sensor bias added.
 std::vector<ImuSample> BiasedSamples(const ImuBias& bias) {
@@ -48,7 +48,7 @@ TEST(GnssPropagatedPositionFactor, PlacesTheFixAtItsOwnStamp) {
   const TimeNs t_i = FromSeconds(1.2);
   const TimeNs t_fix = FromSeconds(1.2734);
   const NavState fix_truth = helix.State(t_fix);
-  const Vec3 z = fix_truth.p_world + fix_truth.q_world_imu * kLever;
+  const Vec3 z = fix_truth.p_world + fix_truth.q_world_imu * kPropagatedLever;
   const Mat3 cov = 1e-4 * Mat3::Identity();
 
   NavState state_i = helix.State(t_i);
@@ -57,7 +57,7 @@ TEST(GnssPropagatedPositionFactor, PlacesTheFixAtItsOwnStamp) {
   // Linearised at a bias off by 10 %: the first-order correction takes up the difference.
   const ImuBias bias_lin{0.9 * bias.gyro, 0.9 * bias.accel};
   const GnssPropagatedPositionFactor factor(
-      z, cov, kLever, ImuPreintegration::FromSamples(samples, t_i, t_fix, ImuNoise{}, bias_lin),
+      z, cov, kPropagatedLever, ImuPreintegration::FromSamples(samples, t_i, t_fix, ImuNoise{}, bias_lin),
       state_i.q_world_imu);
   const Vec3 r = UnwhitenedResidual(factor, state_i);
   std::printf("fix 73.4 ms after the state: propagated residual %.2e m\n", r.norm());
@@ -65,7 +65,7 @@ TEST(GnssPropagatedPositionFactor, PlacesTheFixAtItsOwnStamp) {
 
   // Attaching the same fix to the closest state instead would be off by centimetres.
   const NavState closest = helix.State(FromSeconds(1.3));
-  EXPECT_GT((closest.p_world + closest.q_world_imu * kLever - z).norm(), 0.2);
+  EXPECT_GT((closest.p_world + closest.q_world_imu * kPropagatedLever - z).norm(), 0.2);
 
   // The propagation adds its own uncertainty to the fix covariance.
   const Mat3 added = factor.effective_covariance() - cov;
@@ -75,7 +75,7 @@ TEST(GnssPropagatedPositionFactor, PlacesTheFixAtItsOwnStamp) {
   // perpendicular to it on average), the accelerometer adds sa^2 tau^3 / 3 per axis.
   const ImuNoise noise;
   const double tau = ToSeconds(t_fix - t_i);
-  const double expected = 2.0 * std::pow(noise.gyro_noise_density, 2) * tau * kLever.squaredNorm() +
+  const double expected = 2.0 * std::pow(noise.gyro_noise_density, 2) * tau * kPropagatedLever.squaredNorm() +
                           std::pow(noise.accel_noise_density, 2) * std::pow(tau, 3);
   std::printf("added covariance trace %.3e m^2, random-walk estimate %.3e m^2\n", added.trace(),
               expected);
@@ -91,9 +91,9 @@ TEST(GnssPropagatedPositionFactor, ZeroPropagationEqualsUnaryFactor) {
   cov << 4e-4, 1e-4, 0, 1e-4, 9e-4, 0, 0, 0, 2.5e-3;
   const NavState s = helix.State(t_i);
   const GnssPropagatedPositionFactor propagated(
-      z, cov, kLever, ImuPreintegration::FromSamples(samples, t_i, t_i, ImuNoise{}, ImuBias{}),
+      z, cov, kPropagatedLever, ImuPreintegration::FromSamples(samples, t_i, t_i, ImuNoise{}, ImuBias{}),
       s.q_world_imu);
-  const GnssPositionFactor unary(z, cov, kLever);
+  const GnssPositionFactor unary(z, cov, kPropagatedLever);
   const auto blocks = Blocks(s);
   const double* ptrs[] = {blocks[0].data(), blocks[1].data(), blocks[2].data(), blocks[3].data()};
   Vec3 r_prop, r_unary;
@@ -115,7 +115,7 @@ TEST(GnssPropagatedPositionFactor, JacobiansMatchNumericDifferencesOnTheManifold
     const ImuBias bias_lin{Vec3(0.001, 0.0, -0.002), Vec3(0.0, 0.03, 0.0)};
     NavState s = helix.State(t_i);
     const GnssPropagatedPositionFactor factor(
-        s.p_world + r3(), 1e-4 * Mat3::Identity(), kLever,
+        s.p_world + r3(), 1e-4 * Mat3::Identity(), kPropagatedLever,
         ImuPreintegration::FromSamples(samples, t_i, t_i + FromSeconds(tau), ImuNoise{}, bias_lin),
         s.q_world_imu);
     for (int trial = 0; trial < 5; ++trial) {

@@ -37,7 +37,7 @@ Mat15 InitialCovariance() {
 
 // Sensor data on the helix: IMU at 100 Hz, front-antenna fixes and dual-antenna headings at
 // 10 Hz between samples, with optional noise and a constant IMU bias.
-struct Scenario {
+struct SmootherScenario {
   double t0_s = 1.0;
   double duration_s = 2.0;
   ImuBias true_bias;
@@ -114,7 +114,7 @@ struct Errors {
 // latency_ns delays every measurement's arrival (it then reaches the smoother after IMU samples
 // newer than its stamp: out of order).
 template <typename OnSolve>
-void Feed(const Scenario& sc, SlidingWindowSmoother& smoother, OnSolve on_solve,
+void Feed(const SmootherScenario& sc, SlidingWindowSmoother& smoother, OnSolve on_solve,
           TimeNs latency_ns = 0) {
   smoother.AddImu(sc.imu.front());
   smoother.Initialize(sc.InitialState(), InitialCovariance());
@@ -139,7 +139,7 @@ void Feed(const Scenario& sc, SlidingWindowSmoother& smoother, OnSolve on_solve,
 }
 
 void CheckNoiseFreeTracking(int imu_samples_per_state) {
-  Scenario sc;
+  SmootherScenario sc;
   sc.duration_s = 3.0;
   sc.Generate();
   SlidingWindowOptions options;
@@ -193,7 +193,7 @@ struct Batch {
     return {x.q_world_imu.data(), x.p_world.data(), x.v_world.data(), x.bias.data()};
   }
 
-  void Build(const Scenario& sc) {
+  void Build(const SmootherScenario& sc) {
     const ImuNoise noise;
     states.push_back(
         std::make_unique<StateParameters>(StateParameters::FromNavState(sc.InitialState())));
@@ -256,7 +256,7 @@ struct Batch {
 // Marginalisation keeps the information of the states that left: a 0.3 s window ends on the
 // same newest state, with the same covariance, as the batch solution over all 2 s.
 TEST(SlidingWindowSmoother, MarginalizationMatchesTheBatchSolution) {
-  Scenario sc;
+  SmootherScenario sc;
   sc.noisy = true;
   sc.true_bias = ImuBias{Vec3(2e-3, -1e-3, 1.5e-3), Vec3(0.05, -0.03, 0.04)};
   sc.seed = 7;
@@ -306,7 +306,7 @@ TEST(SlidingWindowSmoother, MarginalizationMatchesTheBatchSolution) {
 // having seen 0.2 s fewer fixes (measured and reported; equality there needs the caller to hold
 // marginalisation back by the maximum latency, e.g. with a reorder buffer).
 TEST(SlidingWindowSmoother, LateMeasurementsLandAtTheirOwnStamps) {
-  Scenario sc;
+  SmootherScenario sc;
   sc.noisy = true;
   sc.seed = 11;
   sc.duration_s = 2.5;
@@ -355,7 +355,7 @@ TEST(SlidingWindowSmoother, LateMeasurementsLandAtTheirOwnStamps) {
 }
 
 TEST(SlidingWindowSmoother, BadInputIsRefusedAndLateOrEarlyMeasurementsAreHandled) {
-  Scenario sc;
+  SmootherScenario sc;
   sc.duration_s = 1.0;
   sc.Generate();
   SlidingWindowOptions options;

@@ -12,7 +12,7 @@
 namespace statebench::sensors {
 namespace {
 
-const GeodeticPoint kOrigin{48.7126, 2.2085, 160.0};
+const GeodeticPoint kHeadingOrigin{48.7126, 2.2085, 160.0};
 
 struct Pair {
   SensorSpec rear, front;
@@ -42,7 +42,7 @@ TEST(DualAntennaHeading, NoiseFreeBaselineGivesBodyYawAndPitch) {
   const Pair p = QuadricyclePair();
   GnssOptions exact;
   exact.AccuracyOf(GnssMode::kRtkFixed) = GnssAccuracy{0.0, 0.0};
-  const LocalEnuFrame frame(kOrigin);
+  const LocalEnuFrame frame(kHeadingOrigin);
   GnssReceiver rear(p.rear, exact, frame, 1), front(p.front, exact, frame, 1);
   const TruthSample truth = PitchedTruth(0, 0.05, 2.5);
   const auto h =
@@ -59,7 +59,7 @@ TEST(DualAntennaHeading, NoiseFreeBaselineGivesBodyYawAndPitch) {
 // yaw and pitch errors have the reported sigmas.
 TEST(DualAntennaHeading, ReportedSigmasMatchTheErrors) {
   const Pair p = QuadricyclePair();
-  const LocalEnuFrame frame(kOrigin);
+  const LocalEnuFrame frame(kHeadingOrigin);
   GnssReceiver rear(p.rear, GnssOptions{}, frame, 21), front(p.front, GnssOptions{}, frame, 22);
   double sum_yaw2 = 0.0, sum_pitch2 = 0.0;
   DualAntennaHeading last;
@@ -85,7 +85,7 @@ TEST(DualAntennaHeading, ReportedSigmasMatchTheErrors) {
 
 TEST(DualAntennaHeading, NeedsBothFixesAtTheRequiredStatus) {
   const Pair p = QuadricyclePair();
-  const LocalEnuFrame frame(kOrigin);
+  const LocalEnuFrame frame(kHeadingOrigin);
   GnssOptions float_options;
   float_options.mode = GnssMode::kRtkFloat;
   GnssReceiver rear(p.rear, float_options, frame, 1), front(p.front, GnssOptions{}, frame, 1);

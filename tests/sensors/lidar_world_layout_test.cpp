@@ -12,15 +12,15 @@ namespace statebench::sensors {
 namespace {
 
 constexpr double kBlock = 120.0;
-constexpr double kLaneWidth = 3.5;
+constexpr double kLayoutLaneWidth = 3.5;
 
 double Hills(double x, double y) { return 0.02 * x + 3.0 * std::sin(0.01 * y); }
 
 // A ring road (radius 90 m, centre (500, 0)), both directions: curved edges.
 void AddRingRoad(RoadGeometry* roads) {
-  for (const double offset : {-0.5 * kLaneWidth, 0.5 * kLaneWidth}) {
+  for (const double offset : {-0.5 * kLayoutLaneWidth, 0.5 * kLayoutLaneWidth}) {
     LaneShape lane;
-    lane.width_m = kLaneWidth;
+    lane.width_m = kLayoutLaneWidth;
     for (int i = 0; i <= 72; ++i) {
       const double a = (offset > 0 ? 1 : -1) * 2.0 * std::numbers::pi * i / 72;
       const double r = 90.0 + offset;
@@ -31,7 +31,7 @@ void AddRingRoad(RoadGeometry* roads) {
 }
 
 RoadGeometry TestRoads() {
-  RoadGeometry roads = MakeGridRoads(3, 3, kBlock, 1, kLaneWidth, Hills);
+  RoadGeometry roads = MakeGridRoads(3, 3, kBlock, 1, kLayoutLaneWidth, Hills);
   AddRingRoad(&roads);
   return roads;
 }
@@ -154,7 +154,7 @@ TEST(WorldLayout, SameSeedSameWorldDifferentSeedDifferentWorld) {
 }
 
 TEST(WorldLayout, KerbsOnlyOnOuterEdgesAndOutsideJunctions) {
-  const RoadGeometry roads = MakeGridRoads(2, 1, kBlock, 2, kLaneWidth, Hills);
+  const RoadGeometry roads = MakeGridRoads(2, 1, kBlock, 2, kLayoutLaneWidth, Hills);
   WorldLayoutOptions options;
   options.buildings.enabled = false;
   const WorldLayout layout = BuildWorldLayout(roads, Hills, options);
@@ -163,9 +163,9 @@ TEST(WorldLayout, KerbsOnlyOnOuterEdgesAndOutsideJunctions) {
     if (b.material != SurfaceMaterial::kKerb) continue;
     ++kerbs;
     // The street runs along x at y = 0 with 2 x 2 lanes: kerbs sit just beyond |y| = 7 m.
-    EXPECT_NEAR(std::abs(b.centre_world.y()), 2 * kLaneWidth + 0.02 + 0.125, 1e-6);
-    EXPECT_GT(b.centre_world.x(), 2 * kLaneWidth + 1.0);
-    EXPECT_LT(b.centre_world.x(), kBlock - 2 * kLaneWidth - 1.0);
+    EXPECT_NEAR(std::abs(b.centre_world.y()), 2 * kLayoutLaneWidth + 0.02 + 0.125, 1e-6);
+    EXPECT_GT(b.centre_world.x(), 2 * kLayoutLaneWidth + 1.0);
+    EXPECT_LT(b.centre_world.x(), kBlock - 2 * kLayoutLaneWidth - 1.0);
     // Top 13 cm above the road.
     const double top = b.centre_world.z() + 0.5 * b.size_m.z();
     EXPECT_NEAR(top - Hills(b.centre_world.x(), b.centre_world.y()), 0.13, 1e-9);

@@ -121,6 +121,27 @@ TEST(PcdHeader, AsciiPcdIsReadThroughPclAndCrlfIsTolerated) {
   EXPECT_EQ(points[1].intensity, 0.f);  // not in the file
 }
 
+TEST(PcdHeader, AsciiDataTooShortForItsPointsIsRefusedBeforeAllocating) {
+  const PcdFile pcd("ascii_short");
+  // Four billion points announced in a file of a few bytes: refused from the file's size.
+  const std::filesystem::path file = pcd.Write(
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4000000000\nHEIGHT 1\nPOINTS 4000000000\n"
+      "DATA ascii\n1 2 3\n");
+  try {
+    ReadLidarPcd(file);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot hold the header's 4000000000 points"),
+              std::string::npos)
+        << e.what();
+  }
+  // Exactly long enough (the last value without its newline) is read.
+  EXPECT_EQ(ReadLidarPcd(pcd.Write("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nHEIGHT 1\n"
+                                   "POINTS 1\nDATA ascii\n1 2 3"))
+                .size(),
+            1u);
+}
+
 TEST(PcdHeader, FieldOfTheWrongTypeAndMissingXyzAreNamed) {
   const PcdFile pcd("types");
   const auto error = [&pcd](const std::string& text) {

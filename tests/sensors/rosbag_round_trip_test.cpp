@@ -97,7 +97,7 @@ sensors:
   - {type: lidar, id: lidar, T_body_sensor: {translation: [-0.15, 0, 1.62], rpy_deg: [0, 10, 0]}, latency_s: 0.02}
 )";
 
-std::vector<Measurement> ReadAll(const fs::path& dir) {
+std::vector<Measurement> ReadBagTestLog(const fs::path& dir) {
   LogReader reader(dir);
   std::vector<Measurement> out;
   while (auto m = reader.Next()) out.push_back(std::move(*m));
@@ -105,7 +105,7 @@ std::vector<Measurement> ReadAll(const fs::path& dir) {
   return out;
 }
 
-void WriteLog(const fs::path& dir, const std::vector<Measurement>& stream) {
+void WriteBagTestLog(const fs::path& dir, const std::vector<Measurement>& stream) {
   LogWriterOptions options;
   options.scenario = "round \"trip\"";
   options.origin = GeodeticPoint{48.7846, 2.136, 130.25};
@@ -118,7 +118,7 @@ void WriteLog(const fs::path& dir, const std::vector<Measurement>& stream) {
 TEST(RosbagRoundTrip, ExportThenImportGivesTheSameLog) {
   testing::TempLogDir dir("rosbag_round_trip");
   const std::vector<Measurement> written = ValidStream(5);
-  WriteLog(dir.path() / "log", written);
+  WriteBagTestLog(dir.path() / "log", written);
 
   const RosbagExportResult exported = ExportRosbag(dir.path() / "log", dir.path() / "log.bag");
   ASSERT_FALSE(exported.error.has_value()) << *exported.error;
@@ -139,7 +139,7 @@ TEST(RosbagRoundTrip, ExportThenImportGivesTheSameLog) {
   for (const Measurement& m : written) {
     if (!std::holds_alternative<DualAntennaHeading>(m)) expected.push_back(m);
   }
-  const std::vector<Measurement> back = ReadAll(dir.path() / "back");
+  const std::vector<Measurement> back = ReadBagTestLog(dir.path() / "back");
   ASSERT_EQ(back.size(), expected.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
     ASSERT_EQ(MeasurementBytes(back[i]), MeasurementBytes(expected[i])) << "measurement " << i;
@@ -175,7 +175,7 @@ TEST(RosbagRoundTrip, ExportThenImportGivesTheSameLog) {
 TEST(RosbagRoundTrip, TimeOffsetAndItsOppositeCancel) {
   testing::TempLogDir dir("rosbag_offset");
   std::vector<Measurement> written = ValidStream(8);
-  WriteLog(dir.path() / "log", written);
+  WriteBagTestLog(dir.path() / "log", written);
   RosbagExportOptions out_options;
   out_options.time_offset_ns = 1'700'000'000 * kNsPerSecond + 123;
   const RosbagExportResult exported =
@@ -190,7 +190,7 @@ TEST(RosbagRoundTrip, TimeOffsetAndItsOppositeCancel) {
   ASSERT_FALSE(imported.error.has_value()) << *imported.error;
   std::erase_if(written,
                 [](const Measurement& m) { return std::holds_alternative<DualAntennaHeading>(m); });
-  const std::vector<Measurement> back = ReadAll(dir.path() / "back");
+  const std::vector<Measurement> back = ReadBagTestLog(dir.path() / "back");
   ASSERT_EQ(back.size(), written.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
     ASSERT_EQ(MeasurementBytes(back[i]), MeasurementBytes(written[i])) << "measurement " << i;
@@ -200,7 +200,7 @@ TEST(RosbagRoundTrip, TimeOffsetAndItsOppositeCancel) {
 TEST(RosbagRoundTrip, ExportRefusesWhatABagCannotHold) {
   testing::TempLogDir dir("rosbag_export_errors");
   // A zero-latency sample at t = 0 arrives at 0, before the earliest ROS1 bag time (1 ns).
-  WriteLog(dir.path() / "log", {ImuSample{{"imu", 0, 0}, Vec3::Zero(), Vec3::Zero()},
+  WriteBagTestLog(dir.path() / "log", {ImuSample{{"imu", 0, 0}, Vec3::Zero(), Vec3::Zero()},
                                 ImuSample{{"imu", 10, 10}, Vec3::Zero(), Vec3::Zero()}});
   const RosbagExportResult r = ExportRosbag(dir.path() / "log", dir.path() / "a.bag");
   ASSERT_TRUE(r.error.has_value());
