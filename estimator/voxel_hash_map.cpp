@@ -99,13 +99,13 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
         if (gxy + gap2(2, dz) >= best2) continue;
         const std::uint32_t i = table_.Find({center.x + dx, center.y + dy, center.z + dz});
         if (i == VoxelIndexTable::kNone) continue;
+        // Without branches: which point wins is data, not a prediction the CPU can learn.
         const Vec3* points = VoxelPoints(i);
         for (std::uint32_t k = 0; k < counts_[i]; ++k) {
           const double d2 = (points[k] - query_world).squaredNorm();
-          if (d2 < best2) {
-            best2 = d2;
-            best = points + k;
-          }
+          const bool closer = d2 < best2;
+          best2 = closer ? d2 : best2;
+          best = closer ? points + k : best;
         }
       }
     }
@@ -118,22 +118,47 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
 
 void VoxelHashMap::NeighborsWithin(const Vec3& query_world, double radius_m,
                                    std::vector<Vec3>* out) const {
-  out->clear();
   const VoxelKey center = VoxelOf(query_world);
   const double r2 = radius_m * radius_m;
-  const int reach = std::max(1, static_cast<int>(std::ceil(radius_m / options_.voxel_size_m)));
+  const double v = options_.voxel_size_m;
+  const int reach = std::max(1, static_cast<int>(std::ceil(radius_m / v)));
+  // Voxels entirely outside the ball are skipped before the hash lookup: along each axis a voxel
+  // at offset d is at least gap(d) = max(0, d v - s) (d > 0) or max(0, s - (d + 1) v) (d < 0)
+  // from the query, s its offset inside its own voxel. The ball is widened by a margin far
+  // above the rounding of s (relative 1e-9 of the coordinates), so no voxel holding a point
+  // within the radius is ever skipped and the output is that of the full cube scan.
+  const Vec3 s = query_world - Eigen::Vector3i(center.x, center.y, center.z).cast<double>() * v;
+  const double margin = 1e-9 * (1.0 + query_world.cwiseAbs().maxCoeff());
+  const double limit2 = (radius_m + margin) * (radius_m + margin);
+  auto gap2 = [&](int axis, int d) {
+    const double g = d > 0 ? d * v - s(axis) : (d < 0 ? s(axis) - (d + 1) * v : 0.0);
+    return g > 0.0 ? g * g : 0.0;
+  };
+  std::size_t found = 0;
   for (int dx = -reach; dx <= reach; ++dx) {
+    const double gx = gap2(0, dx);
+    if (gx > limit2) continue;
     for (int dy = -reach; dy <= reach; ++dy) {
+      const double gxy = gx + gap2(1, dy);
+      if (gxy > limit2) continue;
       for (int dz = -reach; dz <= reach; ++dz) {
+        if (gxy + gap2(2, dz) > limit2) continue;
         const std::uint32_t i = table_.Find({center.x + dx, center.y + dy, center.z + dz});
         if (i == VoxelIndexTable::kNone) continue;
+        // Every point is written and the count advanced only for those within the radius:
+        // no branch to mispredict on the roughly even split.
         const Vec3* points = VoxelPoints(i);
-        for (std::uint32_t k = 0; k < counts_[i]; ++k) {
-          if ((points[k] - query_world).squaredNorm() <= r2) out->push_back(points[k]);
+        const std::uint32_t count = counts_[i];
+        if (out->size() < found + count) out->resize(std::max(2 * out->size(), found + count));
+        Vec3* dst = out->data();
+        for (std::uint32_t k = 0; k < count; ++k) {
+          dst[found] = points[k];
+          found += (points[k] - query_world).squaredNorm() <= r2 ? 1 : 0;
         }
       }
     }
   }
+  out->resize(found);
 }
 
 std::vector<Vec3> VoxelHashMap::Points() const {
