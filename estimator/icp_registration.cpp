@@ -40,8 +40,20 @@ bool LocalShape(const VoxelHashMap& map, const Vec3& q, double radius, std::vect
   Vec3 mean = Vec3::Zero();
   for (const Vec3& p : *scratch) mean += p;
   mean /= static_cast<double>(scratch->size());
-  Mat3 C = Mat3::Zero();
-  for (const Vec3& p : *scratch) C += (p - mean) * (p - mean).transpose();
+  // The six distinct sums of the scatter matrix, kept in registers (Eigen's C += d d^T went
+  // through the stack at every point); each sum adds the same products in the same order.
+  double cxx = 0.0, cxy = 0.0, cxz = 0.0, cyy = 0.0, cyz = 0.0, czz = 0.0;
+  for (const Vec3& p : *scratch) {
+    const double dx = p.x() - mean.x(), dy = p.y() - mean.y(), dz = p.z() - mean.z();
+    cxx += dx * dx;
+    cxy += dx * dy;
+    cxz += dx * dz;
+    cyy += dy * dy;
+    cyz += dy * dz;
+    czz += dz * dz;
+  }
+  Mat3 C;
+  C << cxx, cxy, cxz, cxy, cyy, cyz, cxz, cyz, czz;
   eig->computeDirect(C);
   return true;
 }
