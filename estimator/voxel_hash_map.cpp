@@ -22,7 +22,7 @@ void VoxelHashMap::AddPoints(const std::vector<Vec3>& points_world) {
   for (const Vec3& p : points_world) {
     const VoxelKey key = VoxelOf(p);
     const auto next = static_cast<std::uint32_t>(keys_.size());
-    const std::uint32_t i = table_.Insert(key, next);
+    const std::uint32_t i = index_.Insert(key, next);
     if (i == next) {
       keys_.push_back(key);
       counts_.push_back(0);
@@ -42,13 +42,13 @@ void VoxelHashMap::Update(const std::vector<Vec3>& points_lidar, const SE3& T_wo
 }
 
 void VoxelHashMap::RemoveVoxel(std::uint32_t i) {
-  table_.Erase(keys_[i]);
+  index_.Erase(keys_[i]);
   const auto last = static_cast<std::uint32_t>(keys_.size() - 1);
   if (i != last) {
     keys_[i] = keys_[last];
     counts_[i] = counts_[last];
     std::copy_n(points_.begin() + last * capacity_, counts_[last], points_.begin() + i * capacity_);
-    table_.Assign(keys_[i], i);
+    index_.Assign(keys_[i], i);
   }
   keys_.pop_back();
   counts_.pop_back();
@@ -67,7 +67,7 @@ void VoxelHashMap::RemoveVoxelsFarFrom(const Vec3& origin_world) {
 }
 
 void VoxelHashMap::Clear() {
-  table_.Clear();
+  index_.Clear();
   keys_.clear();
   counts_.clear();
   points_.clear();
@@ -87,6 +87,8 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
     return g * g;
   };
   static constexpr int kOrder[3] = {0, -1, 1};
+  const VoxelBrickIndex::Window window(index_, {center.x - 1, center.y - 1, center.z - 1},
+                                       {center.x + 1, center.y + 1, center.z + 1});
   double best2 = std::numeric_limits<double>::infinity();
   const Vec3* best = nullptr;
   for (const int dx : kOrder) {
@@ -97,8 +99,8 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
       if (gxy >= best2) continue;
       for (const int dz : kOrder) {
         if (gxy + gap2(2, dz) >= best2) continue;
-        const std::uint32_t i = table_.Find({center.x + dx, center.y + dy, center.z + dz});
-        if (i == VoxelIndexTable::kNone) continue;
+        const std::uint32_t i = window.Find({center.x + dx, center.y + dy, center.z + dz});
+        if (i == VoxelBrickIndex::kNone) continue;
         // Without branches: which point wins is data, not a prediction the CPU can learn.
         const Vec3* points = VoxelPoints(i);
         for (std::uint32_t k = 0; k < counts_[i]; ++k) {
@@ -134,6 +136,9 @@ void VoxelHashMap::NeighborsWithin(const Vec3& query_world, double radius_m,
     const double g = d > 0 ? d * v - s(axis) : (d < 0 ? s(axis) - (d + 1) * v : 0.0);
     return g > 0.0 ? g * g : 0.0;
   };
+  const VoxelBrickIndex::Window window(index_,
+                                       {center.x - reach, center.y - reach, center.z - reach},
+                                       {center.x + reach, center.y + reach, center.z + reach});
   std::size_t found = 0;
   for (int dx = -reach; dx <= reach; ++dx) {
     const double gx = gap2(0, dx);
@@ -143,8 +148,8 @@ void VoxelHashMap::NeighborsWithin(const Vec3& query_world, double radius_m,
       if (gxy > limit2) continue;
       for (int dz = -reach; dz <= reach; ++dz) {
         if (gxy + gap2(2, dz) > limit2) continue;
-        const std::uint32_t i = table_.Find({center.x + dx, center.y + dy, center.z + dz});
-        if (i == VoxelIndexTable::kNone) continue;
+        const std::uint32_t i = window.Find({center.x + dx, center.y + dy, center.z + dz});
+        if (i == VoxelBrickIndex::kNone) continue;
         // Every point is written and the count advanced only for those within the radius:
         // no branch to mispredict on the roughly even split.
         const Vec3* points = VoxelPoints(i);

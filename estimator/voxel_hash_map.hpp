@@ -9,7 +9,7 @@
 // Nearest-neighbour queries search the 27 voxels around the query's voxel, so a neighbour is
 // always found when it is within one voxel size of the query (and possibly farther).
 //
-// Layout (for speed; no result depends on it): a flat hash table (voxel_index_table.hpp) maps a
+// Layout (for speed; no result depends on it): a brick index (voxel_brick_index.hpp) maps a
 // voxel to its dense index i, and voxel i's points sit in one block of max_points_per_voxel
 // slots of a single array. Removing a voxel moves the last one into its place. Queries visit
 // voxels in a fixed order of offsets and each voxel's points in arrival order, so their answers
@@ -22,7 +22,7 @@
 
 #include "core/eigen_types.hpp"
 #include "core/se3.hpp"
-#include "estimator/voxel_index_table.hpp"
+#include "estimator/voxel_brick_index.hpp"
 
 namespace statebench::est {
 
@@ -66,8 +66,8 @@ class VoxelHashMap {
   void RemoveVoxel(std::uint32_t i);
 
   VoxelHashMapOptions options_;
-  std::size_t capacity_;  // points per voxel block
-  VoxelIndexTable table_;
+  std::size_t capacity_;               // points per voxel block
+  VoxelBrickIndex index_;              // voxel key -> dense voxel index
   std::vector<VoxelKey> keys_;         // per voxel, dense
   std::vector<std::uint32_t> counts_;  // per voxel: points in its block
   std::vector<Vec3> points_;           // voxel i's points: [i * capacity_, i * capacity_ + count)
