@@ -14,7 +14,7 @@ std::uint32_t VoxelBrickIndex::Insert(const VoxelKey& key, std::uint32_t index) 
   std::uint32_t& slot = brick.slots[SlotOf(key)];
   if (slot != kNone) return slot;
   slot = index;
-  ++brick.used;
+  brick.occupied |= std::uint64_t{1} << SlotOf(key);
   ++size_;
   return index;
 }
@@ -29,11 +29,13 @@ void VoxelBrickIndex::Assign(const VoxelKey& key, std::uint32_t index) {
 void VoxelBrickIndex::Erase(const VoxelKey& key) {
   const std::uint32_t b = table_.Find(BrickOf(key));
   if (b == kNone) return;
-  std::uint32_t& slot = bricks_[b].slots[SlotOf(key)];
+  Brick& brick = bricks_[b];
+  std::uint32_t& slot = brick.slots[SlotOf(key)];
   if (slot == kNone) return;
   slot = kNone;
+  brick.occupied &= ~(std::uint64_t{1} << SlotOf(key));
   --size_;
-  if (--bricks_[b].used > 0) return;
+  if (brick.occupied != 0) return;
   // The brick is empty: the last brick moves into its place.
   table_.Erase(bricks_[b].key);
   if (b + 1 != bricks_.size()) {
@@ -66,10 +68,18 @@ VoxelBrickIndex::Window::Window(const VoxelBrickIndex& index, const VoxelKey& lo
     for (int y = lo_.y; y <= top.y; ++y) {
       for (int z = lo_.z; z <= top.z; ++z, ++i) {
         const std::uint32_t b = index.table_.Find({x, y, z});
-        bricks_[i] = b == kNone ? nullptr : index.bricks_[b].slots.data();
+        bricks_[i] = b == kNone ? nullptr : &index.bricks_[b];
       }
     }
   }
+}
+
+std::uint32_t VoxelBrickIndex::Window::ColumnByLookups(int x, int y, int z_lo, int z_hi) const {
+  std::uint32_t bits = 0;
+  for (int z = z_lo; z <= z_hi; ++z) {
+    if (index_.Find({x, y, z}) != kNone) bits |= std::uint32_t{1} << (z - z_lo);
+  }
+  return bits;
 }
 
 }  // namespace statebench::est

@@ -1,6 +1,7 @@
 #include "estimator/voxel_hash_map.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -146,19 +147,25 @@ void VoxelHashMap::NeighborsWithin(const Vec3& query_world, double radius_m,
     for (int dy = -reach; dy <= reach; ++dy) {
       const double gxy = gx + gap2(1, dy);
       if (gxy > limit2) continue;
-      for (int dz = -reach; dz <= reach; ++dz) {
-        if (gxy + gap2(2, dz) > limit2) continue;
-        const std::uint32_t i = window.Find({center.x + dx, center.y + dy, center.z + dz});
-        if (i == VoxelBrickIndex::kNone) continue;
-        // Every point is written and the count advanced only for those within the radius:
-        // no branch to mispredict on the roughly even split.
-        const Vec3* points = VoxelPoints(i);
-        const std::uint32_t count = counts_[i];
-        if (out->size() < found + count) out->resize(std::max(2 * out->size(), found + count));
-        Vec3* dst = out->data();
-        for (std::uint32_t k = 0; k < count; ++k) {
-          dst[found] = points[k];
-          found += (points[k] - query_world).squaredNorm() <= r2 ? 1 : 0;
+      // The column's occupied voxels only, in increasing dz, a window's column at a time.
+      for (int dz0 = -reach; dz0 <= reach; dz0 += VoxelBrickIndex::Window::kMaxColumn) {
+        const int dz1 = std::min(reach, dz0 + VoxelBrickIndex::Window::kMaxColumn - 1);
+        for (std::uint32_t occupied =
+                 window.Column(center.x + dx, center.y + dy, center.z + dz0, center.z + dz1);
+             occupied != 0; occupied &= occupied - 1) {
+          const int dz = dz0 + std::countr_zero(occupied);
+          if (gxy + gap2(2, dz) > limit2) continue;
+          const std::uint32_t i = window.Find({center.x + dx, center.y + dy, center.z + dz});
+          // Every point is written and the count advanced only for those within the radius:
+          // no branch to mispredict on the roughly even split.
+          const Vec3* points = VoxelPoints(i);
+          const std::uint32_t count = counts_[i];
+          if (out->size() < found + count) out->resize(std::max(2 * out->size(), found + count));
+          Vec3* dst = out->data();
+          for (std::uint32_t k = 0; k < count; ++k) {
+            dst[found] = points[k];
+            found += (points[k] - query_world).squaredNorm() <= r2 ? 1 : 0;
+          }
         }
       }
     }

@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 #include <tuple>
+#include <vector>
 
 namespace statebench::est {
 namespace {
@@ -45,6 +46,19 @@ void ExpectBrickIndexMatches(const VoxelBrickIndex& index, const BrickIndexRefer
       for (int z = lo.z; z <= hi.z; ++z) {
         ASSERT_EQ(window.Find({x, y, z}), ReferenceIndex(reference, {x, y, z}));
       }
+      // Occupancy of every stretch of the column, through the window and the fallback.
+      for (int z_lo = lo.z; z_lo <= hi.z; ++z_lo) {
+        for (int z_hi = z_lo; z_hi <= hi.z; ++z_hi) {
+          std::uint32_t expected = 0;
+          for (int z = z_lo; z <= z_hi; ++z) {
+            if (ReferenceIndex(reference, {x, y, z}) != VoxelBrickIndex::kNone) {
+              expected |= std::uint32_t{1} << (z - z_lo);
+            }
+          }
+          ASSERT_EQ(window.Column(x, y, z_lo, z_hi), expected);
+          ASSERT_EQ(whole.Column(x, y, z_lo, z_hi), expected);
+        }
+      }
     }
   }
 }
@@ -79,6 +93,18 @@ TEST(VoxelBrickIndex, MatchesAReferenceMapUnderRandomInsertEraseAndAssign) {
       index.Erase(key);
     }
     if (step % 2000 == 0) ExpectBrickIndexMatches(index, reference, kHalfWidth, &rng);
+    if (step % 5000 == 0) {  // a column across six bricks
+      const VoxelBrickIndex::Window window(index, {-2, 1, -kHalfWidth}, {-1, 1, kHalfWidth});
+      for (int z_lo = -kHalfWidth; z_lo <= kHalfWidth; ++z_lo) {
+        std::uint32_t expected = 0;
+        for (int z = z_lo; z <= kHalfWidth; ++z) {
+          if (ReferenceIndex(reference, {-2, 1, z}) != VoxelBrickIndex::kNone) {
+            expected |= std::uint32_t{1} << (z - z_lo);
+          }
+        }
+        ASSERT_EQ(window.Column(-2, 1, z_lo, kHalfWidth), expected);
+      }
+    }
   }
   index.Clear();
   EXPECT_EQ(index.size(), 0u);
@@ -101,6 +127,28 @@ TEST(VoxelBrickIndex, HandlesKeysAtTheEndsOfTheIntRange) {
   index.Erase(low);
   EXPECT_EQ(index.Find(low), VoxelBrickIndex::kNone);
   EXPECT_EQ(index.Find(high), 2u);
+}
+
+TEST(VoxelBrickIndex, ColumnCoversItsWholeLength) {
+  VoxelBrickIndex index;
+  std::mt19937 rng(11);
+  std::bernoulli_distribution occupied(0.5);
+  std::vector<bool> present;
+  for (int z = -40; z <= 40; ++z) {
+    present.push_back(occupied(rng));
+    if (present.back()) index.Insert({-5, 6, z}, static_cast<std::uint32_t>(z + 40));
+  }
+  const VoxelBrickIndex::Window window(index, {-5, 6, -40}, {-5, 6, 40});  // 21 bricks
+  const int longest = VoxelBrickIndex::Window::kMaxColumn;
+  for (int z_lo = -40; z_lo + longest - 1 <= 40; ++z_lo) {
+    for (const int length : {1, 5, longest - 1, longest}) {
+      std::uint32_t expected = 0;
+      for (int k = 0; k < length; ++k) {
+        if (present[z_lo + k + 40]) expected |= std::uint32_t{1} << k;
+      }
+      ASSERT_EQ(window.Column(-5, 6, z_lo, z_lo + length - 1), expected) << z_lo << " " << length;
+    }
+  }
 }
 
 }  // namespace

@@ -204,5 +204,19 @@ TEST(VoxelHashMap, QueriesMatchBruteForceOnContinuousPoints) {
                                {0.3, 1.0, 3.0});
 }
 
+TEST(VoxelHashMap, QueriesMatchBruteForceWithReachBeyondOneColumnAndWindow) {
+  // Voxel 0.1 m, radius 1.7 m: a reach of 17 voxels (35 per axis: two column stretches, more
+  // bricks than a window holds).
+  std::mt19937 rng(8);
+  MapQueryReference reference{
+      .options = {.voxel_size_m = 0.1, .max_points_per_voxel = 3, .max_range_m = 100.0}};
+  VoxelHashMap map(reference.options);
+  const std::vector<Vec3> points = MapQueryRandomPoints(&rng, 4000, 1.0, 0.0);
+  map.AddPoints(points);
+  reference.Add(points);
+  ExpectQueriesMatchBruteForce(map, reference, MapQueryRandomPoints(&rng, 40, 1.2, 0.0),
+                               {0.05, 1.7});
+}
+
 }  // namespace
 }  // namespace statebench::est
