@@ -85,10 +85,13 @@ Mat3 ThinProjector(const VoxelHashMap& map, const Vec3& q, const IcpOptions& opt
 // the surface radius of the one they were computed at (the local shape is the same there);
 // each slot is written only by the task that owns its index.
 struct ProjectorCache {
-  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0) {}
+  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0), nearest(n) {}
   std::vector<Mat3> P;
   std::vector<Vec3> q;
   std::vector<char> valid;
+  // Per source point, what its last correspondence search proved: the next iterations, whose
+  // small pose steps move the point a few millimetres, mostly skip the search.
+  std::vector<NearestNeighborProof> nearest;
 };
 
 // Normal equations at T. use_projector selects W = w P instead of w I.
@@ -108,7 +111,11 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
           const Vec3 p_map = T * p;
           Vec3 q;
           double d = 0.0;
-          if (!map.NearestNeighbor(p_map, &q, &d) || d > max_dist) continue;
+          if (!map.NearestNeighborFromProof(cache->nearest[i], p_map, &q, &d) &&
+              !map.NearestNeighbor(p_map, &q, &d, &cache->nearest[i])) {
+            continue;
+          }
+          if (d > max_dist) continue;
           const double w = k2 * k2 / ((k2 + d * d) * (k2 + d * d));
           // In the scan-frame rotated residual r_s = R^T r: J_s = [I, -hat(p)], W_s = R^T W R.
           const Vec3 r_s = Rt * (p_map - q);

@@ -74,12 +74,12 @@ void VoxelHashMap::Clear() {
   points_.clear();
 }
 
-bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
-                                   double* distance_m) const {
+bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world, double* distance_m,
+                                   NearestNeighborProof* proof) const {
   const VoxelKey center = VoxelOf(query_world);
   // Offset of the query inside its voxel, in [0, v) per axis: a neighbour voxel at offset
   // d in {-1, 0, 1} is at least (v - s) (d = 1), s (d = -1) or 0 (d = 0) away along that axis.
-  // Voxels that cannot beat the best distance so far are skipped before the hash lookup; the
+  // Voxels that cannot beat the best distance so far are skipped before the lookup; the
   // query's own voxel is searched first to make that bound tight early.
   const double v = options_.voxel_size_m;
   const Vec3 s = query_world - Eigen::Vector3i(center.x, center.y, center.z).cast<double>() * v;
@@ -92,14 +92,27 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
                                        {center.x + 1, center.y + 1, center.z + 1});
   double best2 = std::numeric_limits<double>::infinity();
   const Vec3* best = nullptr;
+  // A lower bound of the squared distance of every point but the best: the points seen and
+  // displaced or beaten, and the gap bound of the voxels skipped.
+  double others2 = std::numeric_limits<double>::infinity();
   for (const int dx : kOrder) {
     const double gx = gap2(0, dx);
-    if (gx >= best2) continue;
+    if (gx >= best2) {
+      others2 = std::min(others2, gx);
+      continue;
+    }
     for (const int dy : kOrder) {
       const double gxy = gx + gap2(1, dy);
-      if (gxy >= best2) continue;
+      if (gxy >= best2) {
+        others2 = std::min(others2, gxy);
+        continue;
+      }
       for (const int dz : kOrder) {
-        if (gxy + gap2(2, dz) >= best2) continue;
+        const double g = gxy + gap2(2, dz);
+        if (g >= best2) {
+          others2 = std::min(others2, g);
+          continue;
+        }
         const std::uint32_t i = window.Find({center.x + dx, center.y + dy, center.z + dz});
         if (i == VoxelBrickIndex::kNone) continue;
         // Without branches: which point wins is data, not a prediction the CPU can learn.
@@ -107,15 +120,42 @@ bool VoxelHashMap::NearestNeighbor(const Vec3& query_world, Vec3* nearest_world,
         for (std::uint32_t k = 0; k < counts_[i]; ++k) {
           const double d2 = (points[k] - query_world).squaredNorm();
           const bool closer = d2 < best2;
+          others2 = std::min(others2, closer ? best2 : d2);
           best2 = closer ? d2 : best2;
           best = closer ? points + k : best;
         }
       }
     }
   }
-  if (!std::isfinite(best2)) return false;
+  if (!std::isfinite(best2)) {
+    if (proof != nullptr) proof->valid = false;
+    return false;
+  }
   *nearest_world = *best;
   *distance_m = std::sqrt(best2);
+  if (proof != nullptr) {
+    *proof = {.valid = true,
+              .query_world = query_world,
+              .center = center,
+              .nearest_world = *best,
+              .distance_m = *distance_m,
+              .others_m = std::sqrt(others2)};
+  }
+  return true;
+}
+
+bool VoxelHashMap::NearestNeighborFromProof(const NearestNeighborProof& proof,
+                                            const Vec3& query_world, Vec3* nearest_world,
+                                            double* distance_m) const {
+  if (!proof.valid) return false;
+  // The margin dwarfs the rounding of the distances (relative 1e-15) at any coordinate.
+  const double moved = (query_world - proof.query_world).norm();
+  const double margin = 1e-9 * (1.0 + query_world.cwiseAbs().maxCoeff());
+  if (!(proof.distance_m + 2.0 * moved + margin < proof.others_m)) return false;
+  if (!(VoxelOf(query_world) == proof.center)) return false;
+  *nearest_world = proof.nearest_world;
+  // As the search computes it (same expression, same bits).
+  *distance_m = std::sqrt((proof.nearest_world - query_world).squaredNorm());
   return true;
 }
 

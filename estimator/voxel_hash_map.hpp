@@ -32,6 +32,20 @@ struct VoxelHashMapOptions {
   double max_range_m = 100.0;
 };
 
+// What a nearest-neighbour search proves about the queries near its own: while the map is
+// unchanged, the nearest neighbour of a query q in the same voxel as query_world stays
+// nearest_world when distance_m + 2 |q - query_world| < others_m (every other point of the 27
+// voxels is at least others_m from query_world, so at least others_m - |q - query_world| from
+// q, while nearest_world is at most distance_m + |q - query_world| from it).
+struct NearestNeighborProof {
+  bool valid = false;
+  Vec3 query_world = Vec3::Zero();
+  VoxelKey center;
+  Vec3 nearest_world = Vec3::Zero();
+  double distance_m = 0.0;
+  double others_m = 0.0;
+};
+
 class VoxelHashMap {
  public:
   explicit VoxelHashMap(const VoxelHashMapOptions& options);
@@ -47,7 +61,14 @@ class VoxelHashMap {
   // Closest stored point to query_world among the 27 neighbouring voxels (visited from the
   // query's own voxel outwards, offsets in the order 0, -1, 1 per axis, x outermost; the first
   // of equally close points wins). Returns false when they are all empty.
-  bool NearestNeighbor(const Vec3& query_world, Vec3* nearest_world, double* distance_m) const;
+  // With a proof, also fills it (valid when a neighbour was found).
+  bool NearestNeighbor(const Vec3& query_world, Vec3* nearest_world, double* distance_m,
+                       NearestNeighborProof* proof = nullptr) const;
+  // The answer NearestNeighbor would give for query_world (the same point, the same distance
+  // bits), from a proof made by a search on this map unchanged since, when the proof covers
+  // query_world (with a margin far above rounding); false when it does not: search then.
+  bool NearestNeighborFromProof(const NearestNeighborProof& proof, const Vec3& query_world,
+                                Vec3* nearest_world, double* distance_m) const;
   // All stored points within radius_m of query_world, searching ceil(radius / voxel) voxels
   // around the query's voxel (at least the 27 neighbours). Order: voxels by offset (dx, dy, dz)
   // from -reach to reach, z innermost, each voxel's points in arrival order.

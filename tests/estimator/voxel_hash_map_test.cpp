@@ -218,5 +218,47 @@ TEST(VoxelHashMap, QueriesMatchBruteForceWithReachBeyondOneColumnAndWindow) {
                                {0.05, 1.7});
 }
 
+// A proof, wherever NearestNeighborFromProof accepts it, gives what a search gives (point and
+// distance bits); it is accepted for most small moves; it is refused across a voxel face, for
+// far moves and under exact ties (a grid: the proof must not single out one of equal points).
+TEST(VoxelHashMap, NearestNeighborFromProofGivesTheSearchAnswerWhereItApplies) {
+  std::mt19937 rng(17);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (const double step : {0.0, 0.125}) {
+    const VoxelHashMapOptions options{
+        .voxel_size_m = 0.5, .max_points_per_voxel = 20, .max_range_m = 100.0};
+    VoxelHashMap map(options);
+    map.AddPoints(MapQueryRandomPoints(&rng, 5000, 4.0, step));
+    int used_small = 0, small = 0, used_far = 0;
+    for (const Vec3& q0 : MapQueryRandomPoints(&rng, 400, 4.0, step)) {
+      NearestNeighborProof proof;
+      Vec3 nearest;
+      double d = 0.0;
+      if (!map.NearestNeighbor(q0, &nearest, &d, &proof)) {
+        EXPECT_FALSE(proof.valid);
+        EXPECT_FALSE(map.NearestNeighborFromProof(proof, q0, &nearest, &d));
+        continue;
+      }
+      for (const double move_m : {0.0, 1e-4, 1e-3, 1e-2, 0.1, 0.3, 1.0}) {
+        const Vec3 direction(normal(rng), normal(rng), normal(rng));
+        const Vec3 q = q0 + move_m * direction.normalized();
+        Vec3 from_proof, searched;
+        double d_proof = 0.0, d_searched = 0.0;
+        const bool applies = map.NearestNeighborFromProof(proof, q, &from_proof, &d_proof);
+        const bool found = map.NearestNeighbor(q, &searched, &d_searched);
+        if (move_m <= 1e-3) ++small;
+        if (!applies) continue;
+        ASSERT_TRUE(found);
+        ASSERT_EQ(from_proof, searched) << q.transpose();
+        ASSERT_EQ(d_proof, d_searched);
+        if (move_m <= 1e-3) ++used_small;
+        if (move_m >= 1.0) ++used_far;
+      }
+    }
+    if (step == 0.0) EXPECT_GT(used_small, small * 3 / 4);
+    EXPECT_EQ(used_far, 0);  // two voxels away: never the same voxel
+  }
+}
+
 }  // namespace
 }  // namespace statebench::est
