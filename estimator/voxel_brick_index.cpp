@@ -1,5 +1,7 @@
 #include "estimator/voxel_brick_index.hpp"
 
+#include <algorithm>
+
 namespace statebench::est {
 
 std::uint32_t VoxelBrickIndex::Insert(const VoxelKey& key, std::uint32_t index) {
@@ -14,7 +16,7 @@ std::uint32_t VoxelBrickIndex::Insert(const VoxelKey& key, std::uint32_t index) 
   std::uint32_t& slot = brick.slots[SlotOf(key)];
   if (slot != kNone) return slot;
   slot = index;
-  brick.occupied |= std::uint64_t{1} << SlotOf(key);
+  SetOccupied(&brick, SlotOf(key), true);
   ++size_;
   return index;
 }
@@ -33,9 +35,12 @@ void VoxelBrickIndex::Erase(const VoxelKey& key) {
   std::uint32_t& slot = brick.slots[SlotOf(key)];
   if (slot == kNone) return;
   slot = kNone;
-  brick.occupied &= ~(std::uint64_t{1} << SlotOf(key));
+  SetOccupied(&brick, SlotOf(key), false);
   --size_;
-  if (brick.occupied != 0) return;
+  if (std::any_of(brick.occupied.begin(), brick.occupied.end(),
+                  [](std::uint64_t word) { return word != 0; })) {
+    return;
+  }
   // The brick is empty: the last brick moves into its place.
   table_.Erase(bricks_[b].key);
   if (b + 1 != bricks_.size()) {

@@ -93,7 +93,7 @@ TEST(VoxelBrickIndex, MatchesAReferenceMapUnderRandomInsertEraseAndAssign) {
       index.Erase(key);
     }
     if (step % 2000 == 0) ExpectBrickIndexMatches(index, reference, kHalfWidth, &rng);
-    if (step % 5000 == 0) {  // a column across six bricks
+    if (step % 5000 == 0) {  // a column across several bricks
       const VoxelBrickIndex::Window window(index, {-2, 1, -kHalfWidth}, {-1, 1, kHalfWidth});
       for (int z_lo = -kHalfWidth; z_lo <= kHalfWidth; ++z_lo) {
         std::uint32_t expected = 0;
@@ -138,7 +138,7 @@ TEST(VoxelBrickIndex, ColumnCoversItsWholeLength) {
     present.push_back(occupied(rng));
     if (present.back()) index.Insert({-5, 6, z}, static_cast<std::uint32_t>(z + 40));
   }
-  const VoxelBrickIndex::Window window(index, {-5, 6, -40}, {-5, 6, 40});  // 21 bricks
+  const VoxelBrickIndex::Window window(index, {-5, 6, -40}, {-5, 6, 40});
   const int longest = VoxelBrickIndex::Window::kMaxColumn;
   for (int z_lo = -40; z_lo + longest - 1 <= 40; ++z_lo) {
     for (const int length : {1, 5, longest - 1, longest}) {
@@ -149,6 +149,31 @@ TEST(VoxelBrickIndex, ColumnCoversItsWholeLength) {
       ASSERT_EQ(window.Column(-5, 6, z_lo, z_lo + length - 1), expected) << z_lo << " " << length;
     }
   }
+}
+
+TEST(VoxelBrickIndex, EmptyingABrickMovesTheLastBrickIntoItsPlace) {
+  VoxelBrickIndex index;
+  // Three bricks, far apart, filled in order: the first one is emptied, the last one moves.
+  const std::vector<VoxelKey> first = {{0, 0, 0}, {1, 2, 3}, {7, 7, 7}};
+  const std::vector<VoxelKey> second = {{100, -3, 5}, {101, -3, 5}};
+  const std::vector<VoxelKey> third = {{-50, 40, -8}, {-49, 47, -1}};
+  std::uint32_t next = 0;
+  for (const auto* keys : {&first, &second, &third}) {
+    for (const VoxelKey& key : *keys) index.Insert(key, next++);
+  }
+  for (const VoxelKey& key : first) index.Erase(key);
+  EXPECT_EQ(index.size(), 4u);
+  for (const VoxelKey& key : first) EXPECT_EQ(index.Find(key), VoxelBrickIndex::kNone);
+  EXPECT_EQ(index.Find(second[0]), 3u);
+  EXPECT_EQ(index.Find(second[1]), 4u);
+  EXPECT_EQ(index.Find(third[0]), 5u);
+  EXPECT_EQ(index.Find(third[1]), 6u);
+  const VoxelBrickIndex::Window window(index, {-50, 40, -8}, {-49, 47, -1});
+  EXPECT_EQ(window.Find(third[1]), 6u);
+  EXPECT_EQ(window.Column(-49, 47, -8, -1), 1u << 7);
+  EXPECT_EQ(index.Insert(first[1], 9u), 9u);  // the emptied brick comes back
+  EXPECT_EQ(index.Find(first[1]), 9u);
+  EXPECT_EQ(index.Find(third[0]), 5u);
 }
 
 }  // namespace
