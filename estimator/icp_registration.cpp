@@ -85,10 +85,11 @@ Mat3 ThinProjector(const VoxelHashMap& map, const Vec3& q, const IcpOptions& opt
 // the surface radius of the one they were computed at (the local shape is the same there);
 // each slot is written only by the task that owns its index.
 struct ProjectorCache {
-  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0), nearest(n) {}
+  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0), zero(n, 0), nearest(n) {}
   std::vector<Mat3> P;
   std::vector<Vec3> q;
   std::vector<char> valid;
+  std::vector<char> zero;  // P is all zeros
   // Per source point, what its last correspondence search proved: the next iterations, whose
   // small pose steps move the point a few millimetres, mostly skip the search.
   std::vector<NearestNeighborProof> nearest;
@@ -126,6 +127,14 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
               cache->P[i] = ThinProjector(map, q, options, &scratch);
               cache->q[i] = q;
               cache->valid[i] = 1;
+              cache->zero[i] = (cache->P[i].array() == 0.0).all();
+            }
+            // A zero projector (no thin direction) adds only exact zeros (of either sign) to
+            // H, g and the weighted sums, which change none of them: they start at +0 and a sum
+            // is -0 only when both terms are. The correspondence still counts.
+            if (cache->zero[i]) {
+              ++acc.count;
+              continue;
             }
             W_s = Rt * cache->P[i] * R;
             dof = W_s.trace();
