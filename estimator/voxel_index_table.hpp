@@ -1,5 +1,5 @@
-// Flat hash table from integer voxel keys to 32-bit indices, for the lidar odometry's voxel map
-// and its voxel downsampling.
+// Flat hash table from integer voxel keys to 32-bit indices, for the lidar odometry's voxel
+// downsampling and the brick index of its voxel map (voxel_brick_index.hpp).
 //
 // Open addressing with linear probing in a power-of-two array of 16-byte slots (key and index
 // side by side: a lookup is one hash and, at the table's load of at most one half, one or two
