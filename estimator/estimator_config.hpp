@@ -131,6 +131,16 @@ struct MeasurementGateOptions {
   RobustKernel kernel;
 };
 
+// How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_
+// covariance.hpp): GNSS fixes and dual-antenna headings are widened by what such errors do.
+// Defaults: the low end of shared/REFERENCE.md's figures for mounts measured by hand (1-2 cm,
+// 0.2-1 deg) and unsynchronised clocks (a few ms). Zero turns a term off.
+struct GnssCalibrationUncertainty {
+  double mount_translation_sigma_m = 0.01;  // per axis, each sensor's mount
+  double mount_rotation_sigma_deg = 0.2;    // per axis, the IMU's mount
+  double clock_offset_sigma_s = 0.003;      // the receiver's clock against the IMU's
+};
+
 inline constexpr double kReorderMarginS = 0.05;  // jitter allowed on top of the stated latency
 
 struct FactorGraphOptions {
@@ -149,6 +159,7 @@ struct FactorGraphOptions {
   InitializationOptions initialization;
   MeasurementGateOptions gnss;                                       // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
+  GnssCalibrationUncertainty gnss_calibration;
   LidarFactorOptions lidar;
   KinematicFactorOptions kinematic;
   NonHolonomicOptions non_holonomic;

@@ -86,6 +86,9 @@ std::optional<TimeNs> EstimatorDiagnostics::LatestInitializationNs() const {
 void UpdateLog::Add(const UpdateDiagnostics& u) {
   ++count_;
   unusable_ += u.usable ? 0 : 1;
+  deferred_ += u.marginalization_deferred ? 1 : 0;
+  marginalized_unusable_ += static_cast<std::uint64_t>(std::max(0, u.num_marginalized_unusable));
+  left_out_of_prior_ += static_cast<std::uint64_t>(std::max(0, u.num_left_out_of_prior));
   iterations_ += u.iterations;
   const double ms = std::max(0.0, u.solve_time_s * 1e3);
   solve_ms_.Add(ms);

@@ -67,6 +67,9 @@ struct UpdateDiagnostics {
   bool usable = false;  // the solver returned a usable solution
   int num_states = 0;
   int num_marginalized = 0;
+  bool marginalization_deferred = false;  // not usable: the window waits for a usable solve
+  int num_marginalized_unusable = 0;      // marginalised all the same (window at its limit)
+  int num_left_out_of_prior = 0;          // factors not finite when their state was marginalised
   // by type: "prior", "imu", "bias", "gnss", "heading", "relative_pose", "velocity"
   std::map<std::string, int> factors;
 };
@@ -90,6 +93,11 @@ class UpdateLog {
   std::uint64_t count() const { return count_; }
   bool empty() const { return count_ == 0; }
   std::uint64_t unusable() const { return unusable_; }
+  // Updates whose marginalisation waited for a usable solve, and states marginalised at an
+  // unusable solve's point because the window reached its limit.
+  std::uint64_t deferred_marginalizations() const { return deferred_; }
+  std::uint64_t marginalized_unusable() const { return marginalized_unusable_; }
+  std::uint64_t left_out_of_prior() const { return left_out_of_prior_; }
   double mean_iterations() const;
   // Solve times of every update, ms.
   const RunningStatistics& solve_ms() const { return solve_ms_; }
@@ -103,7 +111,8 @@ class UpdateLog {
  private:
   Period CurrentPeriod() const;
 
-  std::uint64_t count_ = 0, unusable_ = 0;
+  std::uint64_t count_ = 0, unusable_ = 0, deferred_ = 0, marginalized_unusable_ = 0,
+                left_out_of_prior_ = 0;
   double iterations_ = 0.0;
   RunningStatistics solve_ms_;
   std::deque<UpdateDiagnostics> recent_;

@@ -12,6 +12,7 @@
 #include "estimator/front_end_set.hpp"
 #include "estimator/measurement_intake.hpp"
 #include "estimator/solve_diagnostics.hpp"
+#include "estimator/gnss_calibration_covariance.hpp"
 #include "estimator/state_estimate.hpp"
 
 namespace statebench::est {
@@ -36,6 +37,29 @@ struct FactorGraphEstimator::Impl {
   MeasurementIntake intake;
   FrontEndSet front_end_set;  // a new measurement kind is a new front end there
   std::vector<MeasurementFrontEnd*> front_ends;
+
+  // The output's share of the calibration errors the smoother cannot average away
+  // (gnss_calibration_covariance.hpp): the first antenna's lever arm, the first heading pair's
+  // baseline (yaw, and pitch once a heading with a pitch was accepted).
+  Mat15 CalibrationConsider(const NavState& state) const {
+    if (setup.antennas.empty()) return Mat15::Zero();
+    Vec3 baseline;
+    const Vec3* b = nullptr;
+    bool pitch = false;
+    if (!setup.dual_antennas.empty()) {
+      const DualAntennaPair& pair = setup.dual_antennas.front();
+      baseline = pair.p_imu_aux - pair.p_imu_main;
+      b = &baseline;
+      pitch = front_end_set.gnss->heading_pitch_seen();
+    }
+    Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
+                                            setup.antennas.front().p_imu_antenna, b, pitch);
+    if (options.non_holonomic.enabled) {
+      C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
+          options.gnss_calibration, setup.T_body_imu.rotation());
+    }
+    return C;
+  }
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
   TimeNs next_solve_ns = 0;
@@ -189,9 +213,10 @@ FactorGraphEstimator::~FactorGraphEstimator() = default;
 void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(measurement); }
 
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
-  const std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
+  std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
   const std::optional<LocalEnuFrame>& frame = impl_->front_end_set.gnss->frame();
   if (!p || !frame) return std::nullopt;
+  p->covariance += impl_->CalibrationConsider(p->state);
   std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
   if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
   return out;

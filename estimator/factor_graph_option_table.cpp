@@ -48,6 +48,18 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
   return t;
 }
 
+OptionTable<GnssCalibrationUncertainty> GnssCalibrationTable() {
+  using G = GnssCalibrationUncertainty;
+  OptionTable<G> t("gnss calibration");
+  t.Number("mount_translation_sigma_m", &G::mount_translation_sigma_m, Range::NonNegative(),
+           "per axis, each sensor's mount (m)")
+      .Number("mount_rotation_sigma_deg", &G::mount_rotation_sigma_deg, Range::NonNegative(),
+              "per axis, the IMU's mount (deg)")
+      .Number("clock_offset_sigma_s", &G::clock_offset_sigma_s, Range::NonNegative(),
+              "a receiver's clock against the IMU's (s)");
+  return t;
+}
+
 OptionTable<InitializationOptions> InitializationTable() {
   using I = InitializationOptions;
   OptionTable<I> t("initialization");
@@ -237,6 +249,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m"), "GNSS position factors")
       .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),
                "dual-antenna heading factors")
+      .Section("gnss_calibration", &F::gnss_calibration, GnssCalibrationTable(),
+               "how far the setup's mounts and clocks may be off: widens GNSS fixes and headings")
       .Section("lidar", &F::lidar, LidarTable(), "lidar odometry factors")
       .Section("kinematic", &F::kinematic, KinematicTable(), "encoder kinematic factor")
       .Section("non_holonomic", &F::non_holonomic, NonHolonomicTable(), "non-holonomic constraint")

@@ -1,8 +1,10 @@
 #include "estimator/gnss_front_end.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.hpp"
+#include "estimator/gnss_calibration_covariance.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/measurement_gate.hpp"
@@ -85,7 +87,7 @@ bool GnssFrontEnd::PassesGate(const MeasurementGateOptions& gate, GateState& sta
 }
 
 void GnssFrontEnd::AddPosition(const PositionInput& in) {
-  const GnssPositionEnu& fix = in.fix;
+  GnssPositionEnu fix = in.fix;
   const std::string& id = fix.header.sensor_id;
   const Vec3& lever = in.p_imu_antenna;
   if (!ctx_.initialized) {
@@ -93,6 +95,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     return ctx_.initializer.AddPosition(fix, lever);
   }
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
+    fix.covariance += PositionCalibrationCovariance(
+        options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
     const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
     const bool outside = d2 > options_.gnss.gate_chi2;
     if (outside) refused_.Refused(fix);
@@ -132,15 +136,23 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
     ctx_.Accept(id, t);
     return ctx_.initializer.AddHeading(in.heading, in.baseline_imu);
   }
+  DualAntennaHeading heading = in.heading;
+  const HeadingCalibrationVariance calibration =
+      HeadingCalibration(options_.gnss_calibration, in.baseline_imu);
+  heading.yaw_sigma_rad = std::sqrt(heading.yaw_sigma_rad * heading.yaw_sigma_rad + calibration.yaw_rad2);
+  if (std::isfinite(heading.pitch_sigma_rad) && heading.pitch_sigma_rad > 0.0) {  // else no pitch
+    heading.pitch_sigma_rad =
+        std::sqrt(heading.pitch_sigma_rad * heading.pitch_sigma_rad + calibration.pitch_rad2);
+  }
   if (const auto predicted = ctx_.PredictAt(t)) {
-    const double d2 = HeadingMahalanobisSquared(*predicted, in.baseline_imu, in.heading);
+    const double d2 = HeadingMahalanobisSquared(*predicted, in.baseline_imu, heading);
     if (!PassesGate(options_.heading, heading_gate_, t, d2)) {
       return ctx_.Reject(id, t, RejectReason::kMahalanobisGate);
     }
   }
   const Vec3 main = Vec3::Zero();  // the factor only uses the baseline direction
   try {
-    if (ctx_.smoother.AddDualAntenna(in.heading, main, in.baseline_imu) == AddResult::kTooOld) {
+    if (ctx_.smoother.AddDualAntenna(heading, main, in.baseline_imu) == AddResult::kTooOld) {
       return ctx_.Reject(id, t, RejectReason::kTooOld);
     }
   } catch (const InputError&) {
@@ -148,11 +160,12 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   }
   heading_gate_ = {std::max(heading_gate_.last_accepted_ns, t), false};
   ctx_.Accept(id, t);
+  heading_pitch_seen_ |= std::isfinite(heading.pitch_sigma_rad) && heading.pitch_sigma_rad > 0.0;
   Accepted a;
   a.stamp_ns = t;
   a.sensor_id = id;
   a.is_heading = true;
-  a.heading = in.heading;
+  a.heading = heading;
   a.baseline_imu = in.baseline_imu;
   accepted_.push_back(a);
 }

@@ -28,6 +28,8 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
 
   // The local ENU frame; nullopt until the options or the first fix give its origin.
   const std::optional<LocalEnuFrame>& frame() const { return frame_; }
+  // A heading with a pitch (and its sigma) has been accepted: the baseline measures pitch.
+  bool heading_pitch_seen() const { return heading_pitch_seen_; }
 
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
@@ -72,6 +74,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
   RefusedFixTrack refused_;
+  bool heading_pitch_seen_ = false;
 };
 
 }  // namespace statebench::est

@@ -22,6 +22,7 @@ bool Linearize(const std::vector<const FactorRecord*>& factors, const BlockLayou
   const int n = layout.dimension();
   system->H = Eigen::MatrixXd::Zero(n, n);
   system->g = Eigen::VectorXd::Zero(n);
+  system->num_skipped = 0;
   for (const FactorRecord* f : factors) {
     const int num_residuals = f->cost->num_residuals();
     const auto& sizes = f->cost->parameter_block_sizes();
@@ -30,7 +31,10 @@ bool Linearize(const std::vector<const FactorRecord*>& factors, const BlockLayou
     for (int32_t s : sizes) ambient.emplace_back(num_residuals, s);
     for (auto& a : ambient) jacobian_ptrs.push_back(a.data());
     Eigen::VectorXd r(num_residuals);
-    if (!f->cost->Evaluate(f->blocks.data(), r.data(), jacobian_ptrs.data())) return false;
+    if (!f->cost->Evaluate(f->blocks.data(), r.data(), jacobian_ptrs.data())) {
+      ++system->num_skipped;
+      continue;
+    }
 
     // Tangent Jacobian of the whole factor, laid out in the system's columns.
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(num_residuals, n);
@@ -51,10 +55,14 @@ bool Linearize(const std::vector<const FactorRecord*>& factors, const BlockLayou
       r *= w;
       J *= w;
     }
+    if (!std::isfinite(r.squaredNorm()) || !J.allFinite()) {  // |r|^2 may overflow
+      ++system->num_skipped;
+      continue;
+    }
     system->H.noalias() += J.transpose() * J;
     system->g.noalias() += J.transpose() * r;
   }
-  return true;
+  return system->num_skipped == 0;
 }
 
 LinearSystem SchurComplement(const LinearSystem& system, int m) {

@@ -53,10 +53,14 @@ class BlockLayout {
 struct LinearSystem {
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
+  int num_skipped = 0;  // factors left out by Linearize (see there)
 };
 
 // Accumulates every factor at the current block values. Blocks a factor uses must all be in
-// the layout. Returns false if a cost function fails to evaluate.
+// the layout. A factor that fails to evaluate, or whose whitened residual (its squared norm) or
+// Jacobian is not finite there, carries nothing a Gaussian can hold: it is left out and counted in
+// system->num_skipped (a non-finite H or g would poison every later solve through the prior).
+// Returns false when a factor was left out.
 bool Linearize(const std::vector<const FactorRecord*>& factors, const BlockLayout& layout,
                LinearSystem* system);
 

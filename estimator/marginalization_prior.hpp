@@ -1,7 +1,14 @@
 // Prior on one navigation state left by marginalisation (or given at initialisation).
 //
 // The information H (15x15) and gradient g the eliminated states carried are fixed at the
-// linearisation point x0 (first-estimate Jacobians, which keeps the prior consistent):
+// linearisation point x0, the state's estimate when its predecessor left the window. Only the
+// prior is fixed there: the state's other factors (IMU, GNSS, lidar) are relinearised at every
+// solve, so two linearisation points of one state meet in the window. This is not
+// first-estimate Jacobians (Huang et al.): in directions the measurements leave unobservable
+// (position and yaw without GNSS) the mismatch can create information the data do not hold,
+// making the covariance over-confident there; with GNSS every direction is observed and the
+// effect is second order. Not measured separately (issue 11 lists it).
+// The prior's residual is linear in the tangent offset from x0:
 //   dx = x [-] x0 = (Log(R0^T R), p - p0, v - v0, b - b0)      (core/state.hpp ordering)
 //   r  = r0 + J dx,  with J^T J = H and J^T r0 = g,
 // so 1/2 |r|^2 = 1/2 dx^T H dx + g^T dx + const. From H = V diag(l) V^T:

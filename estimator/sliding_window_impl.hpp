@@ -79,6 +79,7 @@ struct SlidingWindowSmoother::Impl {
   std::vector<Pending> pending;
   std::vector<NavState> marginalized;
   int num_dropped = 0;  // pending measurements found too old, since the last Solve
+  int num_left_out = 0;  // factors non-finite at marginalisation (Linearize), since the last Solve
 
   void AddBlocks(Node& n) {
     problem.AddParameterBlock(n.x.q_world_imu.data(), 4, &manifold);
@@ -239,6 +240,7 @@ struct SlidingWindowSmoother::Impl {
     for (const Factor& f : old.factors) records.push_back(&f.record);
     LinearSystem system;
     Linearize(records, layout, &system);
+    num_left_out += system.num_skipped;
     const LinearSystem kept = SchurComplement(system, 15);
 
     auto* prior = new MarginalizationPrior(next.x, kept.H, kept.g);

@@ -146,7 +146,9 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &m.problem, &summary);
-  out.usable = summary.IsSolutionUsable();
+  // Ceres calls a solve whose cost is infinite from the start "usable" (it stops at iteration 0
+  // with nothing to compare): a window with a non-finite cost has no solution to vouch for.
+  out.usable = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.initial_cost = summary.initial_cost;
   out.final_cost = summary.final_cost;
@@ -159,14 +161,24 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
       out.num_velocity_factors += f.kind == Impl::FactorKind::kVelocity;
     }
   }
+  // A solve Ceres marks unusable leaves the window at a linearisation point nobody vouches for:
+  // nothing is marginalised from it (the prior would freeze that point for good); the window
+  // grows until a usable solve, up to twice its length, beyond which the oldest states go anyway
+  // (memory and time stay bounded) and are counted.
   const TimeNs window_ns = FromSeconds(m.options.window_s);
-  while (m.states.size() > 1 && m.states.back()->t_ns - m.states.front()->t_ns > window_ns) {
+  const TimeNs limit_ns = out.usable ? window_ns : 2 * window_ns;
+  const auto span_ns = [&m] { return m.states.back()->t_ns - m.states.front()->t_ns; };
+  if (!out.usable && span_ns() > window_ns) out.marginalization_deferred = true;
+  while (m.states.size() > 1 && span_ns() > limit_ns) {
     m.MarginalizeOldest();
     ++out.num_marginalized;
+    out.num_marginalized_unusable += out.usable ? 0 : 1;
   }
   out.num_states = static_cast<int>(m.states.size());
   out.num_dropped_pending = m.num_dropped;
   m.num_dropped = 0;
+  out.num_left_out_of_prior = m.num_left_out;
+  m.num_left_out = 0;
   return out;
 }
 

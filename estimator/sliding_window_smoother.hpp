@@ -53,12 +53,18 @@ struct SlidingWindowOptions {
 enum class AddResult { kAdded, kPending, kTooOld };
 
 struct SmootherSolveSummary {
-  bool usable = false;  // Ceres returned a usable solution
+  bool usable = false;  // Ceres returned a usable solution and the cost is finite
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
   int num_states = 0;
   int num_marginalized = 0;  // states that left the window in this call
+  // Not usable and the window longer than window_s: marginalisation waited for a usable solve.
+  bool marginalization_deferred = false;
+  // States marginalised although the solve was not usable (the window reached 2 x window_s).
+  int num_marginalized_unusable = 0;
+  // Factors of marginalised states left out of the prior: not finite at its linearisation point.
+  int num_left_out_of_prior = 0;
   int num_imu_factors = 0;
   int num_gnss_factors = 0;
   int num_heading_factors = 0;

@@ -15,6 +15,9 @@ inline UpdateDiagnostics SolveDiagnostics(const SmootherSolveSummary& summary, T
   u.usable = summary.usable;
   u.num_states = summary.num_states;
   u.num_marginalized = summary.num_marginalized;
+  u.marginalization_deferred = summary.marginalization_deferred;
+  u.num_marginalized_unusable = summary.num_marginalized_unusable;
+  u.num_left_out_of_prior = summary.num_left_out_of_prior;
   u.factors = {{"prior", 1},
                {"imu", summary.num_imu_factors},
                {"bias", summary.num_imu_factors},

@@ -9,7 +9,7 @@
 namespace statebench::est {
 namespace {
 
-PropagatedState SomeState() {
+PropagatedState SomeGateState() {
   PropagatedState s;
   s.state.q_world_imu = so3::FromRollPitchYaw(0.05, -0.1, 0.7);
   s.state.p_world = Vec3(3.0, -2.0, 1.0);
@@ -43,7 +43,7 @@ Eigen::Matrix<double, M, 15> NumericJacobian(const NavState& x, H h) {
 }
 
 TEST(MeasurementGate, GnssDistanceUsesTheLeverArmThroughTheOrientation) {
-  const PropagatedState s = SomeState();
+  const PropagatedState s = SomeGateState();
   const Vec3 lever(1.2, -0.3, 1.5);
   const Mat3 C = Vec3(0.04, 0.05, 0.09).asDiagonal();
   const auto antenna = [&](const NavState& x) -> Vec3 { return x.p_world + x.q_world_imu * lever; };
@@ -58,7 +58,7 @@ TEST(MeasurementGate, GnssDistanceUsesTheLeverArmThroughTheOrientation) {
 }
 
 TEST(MeasurementGate, HeadingDistanceMatchesNumericJacobian) {
-  const PropagatedState s = SomeState();
+  const PropagatedState s = SomeGateState();
   const Vec3 baseline(2.0, 0.1, -0.05);
   const auto angles = [&](const NavState& x) -> Vec2 {
     const Vec3 b = x.q_world_imu * baseline;

@@ -25,7 +25,7 @@ std::vector<ImuSample> Samples(const ImuBias& bias) {
 
 std::vector<double> Vec(const auto& a) { return std::vector<double>(a.begin(), a.end()); }
 
-std::vector<std::vector<double>> Blocks(const NavState& s) {
+std::vector<std::vector<double>> RelativePoseBlocks(const NavState& s) {
   const auto p = StateParameters::FromNavState(s);
   return {Vec(p.q_world_imu), Vec(p.p_world), Vec(p.v_world), Vec(p.bias)};
 }
@@ -62,8 +62,8 @@ TEST(RelativePoseFactor, ZeroResidualAtTheTruthBetweenStates) {
     s->gyro_bias = bias.gyro;
     s->accel_bias = bias.accel;
   }
-  auto blocks = Blocks(a);
-  for (auto& blk : Blocks(b)) blocks.push_back(blk);
+  auto blocks = RelativePoseBlocks(a);
+  for (auto& blk : RelativePoseBlocks(b)) blocks.push_back(blk);
   const Vec6 r = Evaluate(*f, blocks) / 100.0;
   std::printf("relative pose at the scan stamps: residual %.2e (m, rad)\n", r.norm());
   EXPECT_LT(r.norm(), 1e-6);
@@ -72,7 +72,7 @@ TEST(RelativePoseFactor, ZeroResidualAtTheTruthBetweenStates) {
   const std::unique_ptr<ceres::CostFunction> one(CreateRelativePoseFactorOneAnchor(
       m, ImuPreintegration::FromSamples(samples, t_a, t1, ImuNoise{}, lin),
       ImuPreintegration::FromSamples(samples, t_a, t2, ImuNoise{}, lin)));
-  EXPECT_LT((Evaluate(*one, Blocks(a)) / 100.0).norm(), 1e-6);
+  EXPECT_LT((Evaluate(*one, RelativePoseBlocks(a)) / 100.0).norm(), 1e-6);
 
   // A 5 cm error along the lidar's x axis shows up as rho_x = 5 cm.
   RelativePoseMeasurement off = m;
@@ -116,7 +116,7 @@ TEST(RelativePoseFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
       x.v_world += r3();
       x.gyro_bias = 0.01 * r3();
       x.accel_bias = 0.1 * r3();
-      for (auto& b : Blocks(x)) blocks.push_back(b);
+      for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
     }
     const std::vector<const ceres::Manifold*> manifolds = {&q_manifold, nullptr, nullptr,
                                                            nullptr,     &q_manifold, nullptr,

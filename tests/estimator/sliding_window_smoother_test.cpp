@@ -385,5 +385,56 @@ TEST(SlidingWindowSmoother, BadInputIsRefusedAndLateOrEarlyMeasurementsAreHandle
   EXPECT_THROW(SlidingWindowSmoother{bad_options}, InputError);
 }
 
+// A fix 1e160 m off makes every solve's cost overflow while it is in the window: Ceres says
+// "not usable", so nothing is marginalised from those solves (the window grows past window_s)
+// until it reaches twice its length; the oldest states then go all the same, the bad factor is
+// left out of the prior (not finite), and once it is out the solves are usable again and track
+// the truth: no non-finite state at any point.
+TEST(SlidingWindowSmoother, UnusableSolvesDeferMarginalizationAndNonFiniteFactorsStayOutOfThePrior) {
+  SmootherScenario sc;
+  sc.duration_s = 3.0;
+  sc.Generate();
+  SlidingWindowOptions options;
+  options.window_s = 0.5;
+  options.imu_samples_per_state = 10;
+  // Plain least squares: a robust kernel would weight the factor to zero by itself.
+  options.gnss_kernel.type = RobustKernelType::kNone;
+  SlidingWindowSmoother smoother(options);
+  const std::size_t bad = 8;  // the fix at about 1.9 s
+  sc.fixes[bad].p_enu.x() += 1e160;
+  int unusable = 0, deferred = 0, marginalized_unusable = 0, left_out = 0, usable_after = 0;
+  double longest_window_s = 0.0;
+  TimeNs last_unusable_ns = 0;
+  Errors after;
+  Feed(sc, smoother, [&](const SmootherSolveSummary& s) {
+    const auto window = smoother.WindowStates();
+    longest_window_s = std::max(longest_window_s, ToSeconds(window.back().t_ns - window.front().t_ns));
+    for (const NavState& x : window) {
+      ASSERT_TRUE(x.p_world.allFinite() && x.q_world_imu.coeffs().allFinite());
+    }
+    if (!s.usable) {
+      ++unusable;
+      last_unusable_ns = window.back().t_ns;
+      EXPECT_EQ(s.num_marginalized, s.num_marginalized_unusable);
+    } else if (last_unusable_ns != 0) {
+      ++usable_after;
+      after.Update(smoother.NewestState());
+    }
+    deferred += s.marginalization_deferred ? 1 : 0;
+    marginalized_unusable += s.num_marginalized_unusable;
+    left_out += s.num_left_out_of_prior;
+  });
+  // The bad fix stays while the window grows from 0.5 s to 1 s: about 5 solves at 10 Hz.
+  EXPECT_GE(unusable, 5);
+  EXPECT_GT(deferred, 0);
+  EXPECT_GT(longest_window_s, 0.9);
+  EXPECT_LE(longest_window_s, 1.0 + 1e-9);
+  EXPECT_GT(marginalized_unusable, 0);
+  EXPECT_EQ(left_out, 1);
+  EXPECT_GE(usable_after, 5);
+  EXPECT_LT(after.position, 1e-3);
+  EXPECT_LT(after.rotation, 1e-4);
+}
+
 }  // namespace
 }  // namespace statebench::est
