@@ -14,7 +14,7 @@ namespace {
 
 using BrickIndexReference = std::map<std::tuple<int, int, int>, std::uint32_t>;
 
-std::uint32_t ReferenceIndex(const BrickIndexReference& reference, const VoxelKey& key) {
+std::uint32_t BrickReferenceIndex(const BrickIndexReference& reference, const VoxelKey& key) {
   const auto it = reference.find({key.x, key.y, key.z});
   return it == reference.end() ? VoxelBrickIndex::kNone : it->second;
 }
@@ -30,7 +30,7 @@ void ExpectBrickIndexMatches(const VoxelBrickIndex& index, const BrickIndexRefer
   for (int x = -half_width; x <= half_width; ++x) {
     for (int y = -half_width; y <= half_width; ++y) {
       for (int z = -half_width; z <= half_width; ++z) {
-        const std::uint32_t expected = ReferenceIndex(reference, {x, y, z});
+        const std::uint32_t expected = BrickReferenceIndex(reference, {x, y, z});
         ASSERT_EQ(index.Find({x, y, z}), expected);
         ASSERT_EQ(whole.Find({x, y, z}), expected);
       }
@@ -44,14 +44,14 @@ void ExpectBrickIndexMatches(const VoxelBrickIndex& index, const BrickIndexRefer
   for (int x = lo.x; x <= hi.x; ++x) {
     for (int y = lo.y; y <= hi.y; ++y) {
       for (int z = lo.z; z <= hi.z; ++z) {
-        ASSERT_EQ(window.Find({x, y, z}), ReferenceIndex(reference, {x, y, z}));
+        ASSERT_EQ(window.Find({x, y, z}), BrickReferenceIndex(reference, {x, y, z}));
       }
       // Occupancy of every stretch of the column, through the window and the fallback.
       for (int z_lo = lo.z; z_lo <= hi.z; ++z_lo) {
         for (int z_hi = z_lo; z_hi <= hi.z; ++z_hi) {
           std::uint32_t expected = 0;
           for (int z = z_lo; z <= z_hi; ++z) {
-            if (ReferenceIndex(reference, {x, y, z}) != VoxelBrickIndex::kNone) {
+            if (BrickReferenceIndex(reference, {x, y, z}) != VoxelBrickIndex::kNone) {
               expected |= std::uint32_t{1} << (z - z_lo);
             }
           }
@@ -98,7 +98,7 @@ TEST(VoxelBrickIndex, MatchesAReferenceMapUnderRandomInsertEraseAndAssign) {
       for (int z_lo = -kHalfWidth; z_lo <= kHalfWidth; ++z_lo) {
         std::uint32_t expected = 0;
         for (int z = z_lo; z <= kHalfWidth; ++z) {
-          if (ReferenceIndex(reference, {-2, 1, z}) != VoxelBrickIndex::kNone) {
+          if (BrickReferenceIndex(reference, {-2, 1, z}) != VoxelBrickIndex::kNone) {
             expected |= std::uint32_t{1} << (z - z_lo);
           }
         }

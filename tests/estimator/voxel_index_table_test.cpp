@@ -18,8 +18,8 @@ struct IndexTableKeyHash {
 using IndexTableReference = std::unordered_map<VoxelKey, std::uint32_t, IndexTableKeyHash>;
 
 // Every key of a box around the origin and of the reference agrees with the reference.
-void ExpectSameAsReference(const VoxelIndexTable& table, const IndexTableReference& reference,
-                           int half_width) {
+void ExpectIndexTableMatchesReference(const VoxelIndexTable& table,
+                                      const IndexTableReference& reference, int half_width) {
   ASSERT_EQ(table.size(), reference.size());
   for (const auto& [key, index] : reference) ASSERT_EQ(table.Find(key), index);
   for (int x = -half_width; x <= half_width; ++x) {
@@ -60,9 +60,9 @@ TEST(VoxelIndexTable, MatchesUnorderedMapUnderRandomInsertEraseAndAssign) {
       reference.erase(key);
       table.Erase(key);
     }
-    if (step % 100 == 0) ExpectSameAsReference(table, reference, kHalfWidth);
+    if (step % 100 == 0) ExpectIndexTableMatchesReference(table, reference, kHalfWidth);
   }
-  ExpectSameAsReference(table, reference, kHalfWidth);
+  ExpectIndexTableMatchesReference(table, reference, kHalfWidth);
   EXPECT_GT(reference.size(), 100u);  // the mix kept the table well filled
 }
 
