@@ -12,7 +12,8 @@ namespace {
 
 struct IndexTableKeyHash {
   std::size_t operator()(const VoxelKey& k) const {
-    return std::hash<long long>()((static_cast<long long>(k.x) * 1000003 + k.y) * 1000033 + k.z);
+    auto u = [](int c) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(c)); };
+    return std::hash<std::uint64_t>()((u(k.x) * 1000003u + u(k.y)) * 1000033u + u(k.z));
   }
 };
 using IndexTableReference = std::unordered_map<VoxelKey, std::uint32_t, IndexTableKeyHash>;
