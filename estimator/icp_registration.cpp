@@ -40,8 +40,20 @@ bool LocalShape(const VoxelHashMap& map, const Vec3& q, double radius, std::vect
   Vec3 mean = Vec3::Zero();
   for (const Vec3& p : *scratch) mean += p;
   mean /= static_cast<double>(scratch->size());
-  Mat3 C = Mat3::Zero();
-  for (const Vec3& p : *scratch) C += (p - mean) * (p - mean).transpose();
+  // The six distinct sums of the scatter matrix, kept in registers (Eigen's C += d d^T went
+  // through the stack at every point); each sum adds the same products in the same order.
+  double cxx = 0.0, cxy = 0.0, cxz = 0.0, cyy = 0.0, cyz = 0.0, czz = 0.0;
+  for (const Vec3& p : *scratch) {
+    const double dx = p.x() - mean.x(), dy = p.y() - mean.y(), dz = p.z() - mean.z();
+    cxx += dx * dx;
+    cxy += dx * dy;
+    cxz += dx * dz;
+    cyy += dy * dy;
+    cyz += dy * dz;
+    czz += dz * dz;
+  }
+  Mat3 C;
+  C << cxx, cxy, cxz, cxy, cyy, cyz, cxz, cyz, czz;
   eig->computeDirect(C);
   return true;
 }
@@ -73,10 +85,14 @@ Mat3 ThinProjector(const VoxelHashMap& map, const Vec3& q, const IcpOptions& opt
 // the surface radius of the one they were computed at (the local shape is the same there);
 // each slot is written only by the task that owns its index.
 struct ProjectorCache {
-  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0) {}
+  explicit ProjectorCache(std::size_t n) : P(n), q(n), valid(n, 0), zero(n, 0), nearest(n) {}
   std::vector<Mat3> P;
   std::vector<Vec3> q;
   std::vector<char> valid;
+  std::vector<char> zero;  // P is all zeros
+  // Per source point, what its last correspondence search proved: the next iterations, whose
+  // small pose steps move the point a few millimetres, mostly skip the search.
+  std::vector<NearestNeighborProof> nearest;
 };
 
 // Normal equations at T. use_projector selects W = w P instead of w I.
@@ -96,7 +112,11 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
           const Vec3 p_map = T * p;
           Vec3 q;
           double d = 0.0;
-          if (!map.NearestNeighbor(p_map, &q, &d) || d > max_dist) continue;
+          if (!map.NearestNeighborFromProof(cache->nearest[i], p_map, &q, &d) &&
+              !map.NearestNeighbor(p_map, &q, &d, &cache->nearest[i])) {
+            continue;
+          }
+          if (d > max_dist) continue;
           const double w = k2 * k2 / ((k2 + d * d) * (k2 + d * d));
           // In the scan-frame rotated residual r_s = R^T r: J_s = [I, -hat(p)], W_s = R^T W R.
           const Vec3 r_s = Rt * (p_map - q);
@@ -107,6 +127,14 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
               cache->P[i] = ThinProjector(map, q, options, &scratch);
               cache->q[i] = q;
               cache->valid[i] = 1;
+              cache->zero[i] = (cache->P[i].array() == 0.0).all();
+            }
+            // A zero projector (no thin direction) adds only exact zeros (of either sign) to
+            // H, g and the weighted sums, which change none of them: they start at +0 and a sum
+            // is -0 only when both terms are. The correspondence still counts.
+            if (cache->zero[i]) {
+              ++acc.count;
+              continue;
             }
             W_s = Rt * cache->P[i] * R;
             dof = W_s.trace();

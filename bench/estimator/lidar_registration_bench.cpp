@@ -52,7 +52,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <memory>
 #include <optional>
@@ -278,13 +280,57 @@ class ScanClock {
 
 // ---- Our full odometry step ---------------------------------------------------------------
 
+// FNV-1a digest of the bits of every odometry result (pose, covariance, diagnostics): equal
+// digests before and after a change to the registration mean identical registrations.
+class ResultDigest {
+ public:
+  void Add(const est::LidarOdometryResult& r) {
+    Bytes(r.accepted);
+    Bytes(r.first_scan);
+    Bytes(r.T_prev_curr.rotation().coeffs());
+    Bytes(r.T_prev_curr.translation());
+    Bytes(r.T_world_lidar.rotation().coeffs());
+    Bytes(r.T_world_lidar.translation());
+    Bytes(r.covariance);
+    const est::LidarOdometryDiagnostics& d = r.diagnostics;
+    Bytes(d.points_kept);
+    Bytes(d.points_registered);
+    Bytes(d.iterations);
+    Bytes(d.correspondences);
+    Bytes(d.degenerate_directions);
+    Bytes(d.information_eigenvalues);
+    Bytes(d.weakest_direction);
+    Bytes(d.threshold_m);
+    Bytes(d.residual_sigma_m);
+  }
+  void Add(const SE3& T) {
+    Bytes(T.rotation().coeffs());
+    Bytes(T.translation());
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  template <typename T>
+  void Bytes(const T& value) {
+    if constexpr (requires { value.data(); value.size(); }) {
+      for (Eigen::Index i = 0; i < value.size(); ++i) Bytes(value.data()[i]);
+    } else {
+      unsigned char raw[sizeof(T)];
+      std::memcpy(raw, &value, sizeof(T));
+      for (const unsigned char c : raw) hash_ = (hash_ ^ c) * 1099511628211ull;
+    }
+  }
+  std::uint64_t hash_ = 14695981039346656037ull;
+};
+
 void BM_OdometryStep(benchmark::State& state) {
   const int lidar = static_cast<int>(state.range(0));
   const auto threads = static_cast<std::size_t>(state.range(1));
   const LidarSequence& seq = Sequence(lidar);
   tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
   est::LidarOdometry odometry({});
-  for (int k = 0; k < kWarmupScans; ++k) odometry.RegisterScan(seq.scans[k]);
+  ResultDigest digest;
+  for (int k = 0; k < kWarmupScans; ++k) digest.Add(odometry.RegisterScan(seq.scans[k]));
   std::vector<est::LidarOdometryResult> results;
   results.reserve(kScans);
   int k = kWarmupScans;
@@ -299,6 +345,7 @@ void BM_OdometryStep(benchmark::State& state) {
   for (std::size_t i = 0; i < results.size(); ++i) {
     const est::LidarOdometryResult& r = results[i];
     const int scan = kWarmupScans + static_cast<int>(i);
+    digest.Add(r);
     registered += static_cast<double>(r.diagnostics.points_registered) / results.size();
     if (!r.accepted) {
       ++row.errors.failed;
@@ -322,9 +369,10 @@ void BM_OdometryStep(benchmark::State& state) {
   row.guess = "own cv";
   row.threads = static_cast<int>(threads);
   row.src_pts = registered;
-  char extra[96];
-  std::snprintf(extra, sizeof(extra), "raw %.0f pts, end %.3f %% of %.1f m", seq.points_per_scan,
-                100.0 * end_error.translation().norm() / distance, distance);
+  char extra[128];
+  std::snprintf(extra, sizeof(extra), "raw %.0f pts, end %.3f %% of %.1f m, digest %016llx",
+                seq.points_per_scan, 100.0 * end_error.translation().norm() / distance, distance,
+                static_cast<unsigned long long>(digest.value()));
   row.extra = extra;
   Rows().push_back(row);
 }
@@ -444,9 +492,11 @@ void RunPairs(benchmark::State& state, const char* method, RegisterFn register_p
     ++i;
   }
   clock.Finish(state, &row);
+  ResultDigest digest;
   for (std::size_t j = 0; j < estimates.size(); ++j) {
     const ScanPair& pair = seq.pairs[j % seq.pairs.size()];
     if (estimates[j]) {
+      digest.Add(*estimates[j]);
       row.errors.Add(*estimates[j], pair.truth);
     } else {
       ++row.errors.failed;
@@ -462,6 +512,10 @@ void RunPairs(benchmark::State& state, const char* method, RegisterFn register_p
   row.method = method;
   row.lidar = kLidarNames[lidar];
   row.guess = cv_guess ? "cv" : "identity";
+  char extra[32];
+  std::snprintf(extra, sizeof(extra), "digest %016llx",
+                static_cast<unsigned long long>(digest.value()));
+  row.extra = extra;
   row.threads = static_cast<int>(threads);
   Rows().push_back(row);
 }
