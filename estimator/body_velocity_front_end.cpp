@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "estimator/imu_window_statistics.hpp"
+
 namespace statebench::est {
 
 BodyVelocityFrontEnd::BodyVelocityFrontEnd(const EstimatorSensorSetup& setup,
@@ -97,23 +99,9 @@ bool BodyVelocityFrontEnd::ReadsZero(const BodyVelocity& v) const {
 void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3) return;
-  Vec3 mean_g = Vec3::Zero(), mean_a = Vec3::Zero();
-  for (const ImuSample& s : recent_imu_) {
-    mean_g += s.gyro;
-    mean_a += s.accel;
-  }
-  const double n = static_cast<double>(recent_imu_.size());
-  mean_g /= n;
-  mean_a /= n;
-  Vec3 var_g = Vec3::Zero(), var_a = Vec3::Zero();
-  for (const ImuSample& s : recent_imu_) {
-    var_g += (s.gyro - mean_g).cwiseAbs2();
-    var_a += (s.accel - mean_a).cwiseAbs2();
-  }
-  if ((var_g / (n - 1)).cwiseSqrt().maxCoeff() > z.max_gyro_std_radps ||
-      (var_a / (n - 1)).cwiseSqrt().maxCoeff() > z.max_accel_std_mps2) {
-    return;
-  }
+  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_);
+  if (!window.Quiet(z)) return;
+  const Vec3& mean_g = window.mean_gyro;
   const auto predicted = ctx_.PredictAt(t_ns);
   if (!predicted || (mean_g - predicted->state.gyro_bias).norm() > kMaxStillRateRadps) return;
   const double span_s = ToSeconds(recent_imu_.back().header.stamp_ns - *zero_since_ns_);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "estimator/imu_window_statistics.hpp"
+
 namespace statebench::est {
 
 MotionConstraintFrontEnd::MotionConstraintFrontEnd(const EstimatorSensorSetup& setup,
@@ -61,21 +63,9 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
       t_ns - recent_imu_.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
     return false;
   }
-  Vec3 mean_g = Vec3::Zero(), mean_a = Vec3::Zero();
-  for (const ImuSample& s : recent_imu_) {
-    mean_g += s.gyro;
-    mean_a += s.accel;
-  }
-  const double n = static_cast<double>(recent_imu_.size());
-  mean_g /= n;
-  mean_a /= n;
-  Vec3 var_g = Vec3::Zero(), var_a = Vec3::Zero();
-  for (const ImuSample& s : recent_imu_) {
-    var_g += (s.gyro - mean_g).cwiseAbs2();
-    var_a += (s.accel - mean_a).cwiseAbs2();
-  }
-  if ((var_g / (n - 1)).cwiseSqrt().maxCoeff() > z.max_gyro_std_radps) return false;
-  if ((var_a / (n - 1)).cwiseSqrt().maxCoeff() > z.max_accel_std_mps2) return false;
+  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_);
+  if (!window.Quiet(z)) return false;
+  const Vec3& mean_a = window.mean_accel;
   if (encoders_.has_speed_encoder()) {
     const auto& last = encoders_.last_speed();
     return last && t_ns - last->first < FromSeconds(0.5) &&
