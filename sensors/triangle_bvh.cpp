@@ -1,10 +1,15 @@
 #include "sensors/triangle_bvh.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace statebench::sensors {
 
@@ -21,10 +26,33 @@ constexpr int kMaxLeafTriangles = 4;
 constexpr int kMaxSahLeafTriangles = 8;  // a node this small may stay a leaf when SAH says so
 constexpr int kBins = 16;
 constexpr int kMaxDepth = 48;    // deeper than this, nodes are split at the middle of their list
-constexpr int kStackSize = 4 * kMaxDepth + 8;  // at most 4 children pushed per level
+constexpr int kStackSize = 4 * kMaxDepth + 8;  // at most 3 children pushed per level, 4 written
 constexpr double kBoxPadM = 1e-3;
 constexpr double kRangeSlackM = 1e-6;  // as the reference kernel's window slack
 constexpr double kBarycentricSlack = 1e-9;
+
+using V4 = float __attribute__((vector_size(16)));
+using V4i = std::int32_t __attribute__((vector_size(16)));
+
+// Bit k set when lane k of a comparison result is true (all ones).
+inline unsigned MaskOf(V4i lanes) {
+#if defined(__SSE2__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(lanes)));
+#else
+  return (lanes[0] & 1u) | (lanes[1] & 2u) | (lanes[2] & 4u) | (lanes[3] & 8u);
+#endif
+}
+
+// Boxes are culled against the best range so far, padded for float rounding.
+inline float LimitOf(double range_m) {
+  return static_cast<float>(range_m * (1.0 + 1e-6) + kBoxPadM);
+}
+
+// A pushed subtree and where the ray enters its box.
+struct Entry {
+  std::int32_t ref;  // >= 0 a node, < 0 a leaf
+  float t;
+};
 
 struct Item {
   Eigen::AlignedBox3d box;  // relative to the origin
@@ -289,7 +317,6 @@ void TriangleBvh::Collapse(const std::vector<BvhBinaryNode>& binary) {
 
 std::optional<RayHit> TriangleBvh::Cast(const Vec3& o, const Vec3& d, double max_range_m) const {
   if (nodes_.empty()) return std::nullopt;
-  using V4 = float __attribute__((vector_size(16)));
   const Vec3 rel = o - origin_;
   V4 origin[3];
   V4 inverse[3];
@@ -304,68 +331,83 @@ std::optional<RayHit> TriangleBvh::Cast(const Vec3& o, const Vec3& d, double max
   }
   double best = max_range_m + kRangeSlackM;
   int best_triangle = -1;
-  // Boxes are culled against the best range so far, padded for float rounding.
-  const auto limit_of = [](double range) {
-    return static_cast<float>(range * (1.0 + 1e-6) + kBoxPadM);
-  };
-  float limit = limit_of(best);
+  float limit = LimitOf(best);
 
-  struct Entry {
-    std::int32_t ref;  // >= 0 a node, < 0 a leaf
-    float t;           // where the ray enters its box
-  };
+  // Walked nearest child first: of the children a node's test meets, the nearest is walked at
+  // once and the others pushed, farthest first; popped entries beyond the best hit are dropped.
   std::array<Entry, kStackSize> stack;
   int top = 0;
-  stack[static_cast<std::size_t>(top++)] = {0, 0.0f};
-  while (top > 0) {
-    const Entry e = stack[static_cast<std::size_t>(--top)];
-    if (e.t > limit) continue;
-    if (e.ref < 0) {
-      const Leaf& leaf = leaves_[static_cast<std::size_t>(~e.ref)];
+  std::int32_t ref = 0;  // the node (>= 0) or leaf (< 0) being walked
+  for (;;) {
+    if (ref >= 0) {
+      const Node& n = nodes_[static_cast<std::size_t>(ref)];
+      V4 t_near = V4{0.0f, 0.0f, 0.0f, 0.0f};
+      V4 t_far = V4{limit, limit, limit, limit};
+      for (int i = 0; i < 3; ++i) {
+        V4 near_face;
+        V4 far_face;
+        std::memcpy(&near_face, negative[i] ? n.hi[i] : n.lo[i], sizeof(near_face));
+        std::memcpy(&far_face, negative[i] ? n.lo[i] : n.hi[i], sizeof(far_face));
+        const V4 a = (near_face - origin[i]) * inverse[i];
+        const V4 b = (far_face - origin[i]) * inverse[i];
+        t_near = t_near > a ? t_near : a;
+        t_far = t_far < b ? t_far : b;
+      }
+      // Unused slots hold empty boxes (lo > hi), which no ray meets.
+      unsigned mask = MaskOf(t_near <= t_far);
+      if (mask != 0) {
+        if ((mask & (mask - 1)) == 0) {
+          ref = n.child[std::countr_zero(mask)];
+          continue;
+        }
+        Entry met[4];  // by decreasing entry
+        int count = 0;
+        for (; mask != 0; mask &= mask - 1) {
+          const int k = std::countr_zero(mask);
+          const Entry c{n.child[k], t_near[k]};
+          int at = count++;
+          while (at > 0 && met[at - 1].t < c.t) {
+            met[at] = met[at - 1];
+            --at;
+          }
+          met[at] = c;
+        }
+        // Fixed-size copy (the unused tail is overwritten later): no call for a variable length.
+        for (int k = 0; k < 4; ++k) stack[static_cast<std::size_t>(top + k)] = met[k];
+        top += count - 1;
+        ref = met[count - 1].ref;
+        continue;
+      }
+    } else {
+      const Leaf& leaf = leaves_[static_cast<std::size_t>(~ref)];
       for (int k = leaf.first; k < leaf.first + leaf.count; ++k) {
         const Triangle& t = triangles_[static_cast<std::size_t>(k)];
         const double r = Intersect(o, d, t.v0, t.e1, t.e2);
         if (r > 0.0 && r < best) {
           best = r;
           best_triangle = k;
-          limit = limit_of(best);
+          limit = LimitOf(best);
         }
       }
-      continue;
     }
-    const Node& n = nodes_[static_cast<std::size_t>(e.ref)];
-    V4 t_near = V4{0.0f, 0.0f, 0.0f, 0.0f};
-    V4 t_far = V4{limit, limit, limit, limit};
-    for (int i = 0; i < 3; ++i) {
-      V4 near_face;
-      V4 far_face;
-      std::memcpy(&near_face, negative[i] ? n.hi[i] : n.lo[i], sizeof(near_face));
-      std::memcpy(&far_face, negative[i] ? n.lo[i] : n.hi[i], sizeof(far_face));
-      const V4 a = (near_face - origin[i]) * inverse[i];
-      const V4 b = (far_face - origin[i]) * inverse[i];
-      t_near = t_near > a ? t_near : a;
-      t_far = t_far < b ? t_far : b;
-    }
-    // Children met, pushed farthest first so that the nearest is walked next.
-    Entry met[4];
-    int count = 0;
-    for (int k = 0; k < n.count; ++k) {
-      if (!(t_near[k] <= t_far[k])) continue;
-      Entry c{n.child[k], t_near[k]};
-      int at = count++;
-      while (at > 0 && met[at - 1].t < c.t) {
-        met[at] = met[at - 1];
-        --at;
+    // The next entry that may still hold a closer hit.
+    for (;;) {
+      if (top == 0) return HitOf(best_triangle, best, d);
+      const Entry& e = stack[static_cast<std::size_t>(--top)];
+      if (e.t <= limit) {
+        ref = e.ref;
+        break;
       }
-      met[at] = c;
     }
-    for (int k = 0; k < count; ++k) stack[static_cast<std::size_t>(top++)] = met[k];
   }
-  if (best_triangle < 0) return std::nullopt;
-  const Triangle& t = triangles_[static_cast<std::size_t>(best_triangle)];
+}
+
+std::optional<RayHit> TriangleBvh::HitOf(int triangle, double range_m, const Vec3& d) const {
+  if (triangle < 0) return std::nullopt;
+  const Triangle& t = triangles_[static_cast<std::size_t>(triangle)];
   Vec3 normal = t.e1.cross(t.e2).normalized();
   if (normal.dot(d) > 0.0) normal = -normal;
-  return RayHit{best, normal, t.material};
+  return RayHit{range_m, normal, t.material};
 }
 
 }  // namespace statebench::sensors

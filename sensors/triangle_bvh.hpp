@@ -69,6 +69,8 @@ class TriangleBvh {
   };
 
   void Collapse(const std::vector<BvhBinaryNode>& binary);
+  // The hit on triangle `triangle` (-1: none) at range_m along d, its normal facing the ray.
+  std::optional<RayHit> HitOf(int triangle, double range_m, const Vec3& d) const;
 
   std::vector<Node> nodes_;  // the root first
   std::vector<Leaf> leaves_;
