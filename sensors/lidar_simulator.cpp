@@ -24,6 +24,7 @@ LidarSimulator::LidarSimulator(const LidarWorld& world, LidarModelParams params,
   directions_lidar_.reserve(static_cast<std::size_t>(beams.columns) * beams.channels());
   for (int c = 0; c < beams.columns; ++c) {
     for (int r = 0; r < beams.channels(); ++r) directions_lidar_.push_back(beams.Direction(c, r));
+    column_fans_.push_back(FanOf(std::span(directions_lidar_).last(beams.channels())));
   }
 }
 
@@ -86,18 +87,23 @@ void LidarSimulator::SimulateBlock(const Sweep& sweep, const TrafficWindow& traf
   std::mt19937_64 rng = MakeRng(seed_, sweep.stream + "/block/" + std::to_string(block));
   NormalSampler normal;
   out->reserve(static_cast<std::size_t>(column_end - column_begin) * channels);
+  std::vector<PosedTrafficBox> vehicles;  // those the column may see, at its firing time
   for (int c = column_begin; c < column_end; ++c) {
     const SE3& T = sweep.T_world_column[c];
     const Vec3& origin = T.translation();
     const float t_rel = static_cast<float>(ToSeconds(sweep.t_column[c] - sweep.t_start_ns));
+    traffic.PoseFor(column_fans_[static_cast<std::size_t>(c)].Rotated(T.rotation()), origin,
+                    max_range, sweep.t_column[c], &vehicles);
     for (int ring = 0; ring < channels; ++ring) {
       // Exact hit: static world, then traffic at this column's firing time in front of it.
       const Vec3& d_lidar = directions_lidar_[static_cast<std::size_t>(c) * channels + ring];
       const Vec3 d_world = T.rotation() * d_lidar;
       std::optional<RayHit> hit = world_.CastStatic(origin, d_world, max_range);
-      if (auto car =
-              traffic.Cast(origin, d_world, hit ? hit->range_m : max_range, sweep.t_column[c])) {
-        hit = car;
+      if (!vehicles.empty()) {
+        if (auto car =
+                TrafficWindow::Cast(vehicles, origin, d_world, hit ? hit->range_m : max_range)) {
+          hit = car;
+        }
       }
       if (!hit || hit->range_m < params_.min_range_m) continue;
 

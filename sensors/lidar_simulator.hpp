@@ -27,6 +27,7 @@
 #include "core/time.hpp"
 #include "sensors/lidar_model_params.hpp"
 #include "sensors/lidar_world.hpp"
+#include "sensors/ray_fan.hpp"
 #include "sensors/traffic_window.hpp"
 
 namespace statebench::sensors {
@@ -68,6 +69,7 @@ class LidarSimulator {
   LidarModelParams params_;
   std::uint64_t seed_;
   std::vector<Vec3> directions_lidar_;  // per (column, ring), column-major
+  std::vector<RayFan> column_fans_;     // per column, lidar frame
 };
 
 }  // namespace statebench::sensors
