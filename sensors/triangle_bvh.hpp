@@ -31,10 +31,13 @@ namespace statebench::sensors {
 double IntersectTriangle(const Vec3& o, const Vec3& d, const Vec3& v0, const Vec3& e1,
                          const Vec3& e2);
 
-struct BvhBinaryNode;  // the binary tree while building (triangle_bvh.cpp)
+struct BvhBinaryNode;  // the binary tree while building (triangle_bvh_build.cpp)
 
 class TriangleBvh {
  public:
+  static constexpr int kMaxBuildDepth = 48;  // deeper, nodes are split at their list's middle
+  static constexpr double kBoxPadM = 1e-3;   // node boxes padded by this much (and rounded out)
+
   TriangleBvh(const std::vector<const TriangleMesh*>& meshes, const Vec3& origin);
 
   // Closest triangle along o + r d, 0 < r <= max_range_m (d a unit vector, world frame).
