@@ -11,6 +11,10 @@
 // the kept range gets Gaussian noise along the beam. Intensity = 100 * reflectivity *
 // cos(incidence) (a calibrated-reflectivity style value in [0, 100]).
 //
+// Static hits are cast in packets (LidarWorld::CastStaticPacket: one channel of up to
+// kStaticPacketSize adjacent columns, same ranges as single rays, faster); traffic per column
+// (TrafficWindow::PoseFor, then one cast per ray).
+//
 // Determinism: the sweep is cut into fixed blocks of kColumnsPerBlock columns, simulated in
 // parallel with TBB; block b draws its errors from MakeRng(seed, "<sensor_id>/scan/<scan_index>/
 // block/<b>") in column-major, ring-ascending order, and the blocks' points are concatenated in
@@ -64,6 +68,10 @@ class LidarSimulator {
   };
   void SimulateBlock(const Sweep& sweep, const TrafficWindow& traffic, int column_begin,
                      int column_end, int block, std::vector<LidarPoint>* out) const;
+  // Static hits of `count` (<= LidarWorld::kStaticPacketSize) columns from column_begin, one
+  // packet per channel: d_world and hits [k * channels + ring] for column column_begin + k.
+  void CastStaticColumns(const Sweep& sweep, int column_begin, int count, Vec3* d_world,
+                         std::optional<RayHit>* hits) const;
 
   const LidarWorld& world_;
   LidarModelParams params_;
