@@ -10,7 +10,7 @@
 // own API (collision_world(), single-threaded).
 //
 // CastStatic, the fast thread-safe path: one flat BVH over all the tiles' triangles (our own,
-// sensors/triangle_bvh.hpp: float culling, exact double ranging), about 3x faster than the
+// sensors/triangle_bvh.hpp: float culling, exact double ranging), about 2.5x faster than the
 // Bullet walk below (bench/sensors/lidar_raycast_bench) with the same ranges; CastStaticPacket
 // casts close rays together through it (another 1.7x for a lidar channel over adjacent columns).
 //
