@@ -58,8 +58,7 @@ std::optional<RayHit> IntersectTrafficBox(const PosedTrafficBox& box, const Vec3
 
 std::optional<RayHit> IntersectTrafficBox(const TrafficBox& box, const Vec3& origin_world,
                                           const Vec3& unit_direction_world, double max_range_m) {
-  return IntersectTrafficBox(PoseTrafficBox(box), origin_world, unit_direction_world,
-                             max_range_m);
+  return IntersectTrafficBox(PoseTrafficBox(box), origin_world, unit_direction_world, max_range_m);
 }
 
 bool MayMeetBox(const PosedTrafficBox& box, const Vec3& origin_world,

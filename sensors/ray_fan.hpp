@@ -13,17 +13,16 @@
 namespace statebench::sensors {
 
 struct RayFan {
-  Vec3 normal = Vec3::UnitZ();  // unit
-  double spread = 1.0;          // max |normal . d| over the fan (1: no plane bound)
-  Vec3 axis = Vec3::UnitX();    // unit
+  Vec3 normal = Vec3::UnitZ();   // unit
+  double spread = 1.0;           // max |normal . d| over the fan (1: no plane bound)
+  Vec3 axis = Vec3::UnitX();     // unit
   double min_along_axis = -1.0;  // min axis . d over the fan (< 0: no half-space bound)
 
   // The same fan turned by R (directions R d).
   RayFan Rotated(const Quat& R) const;
 
   // False when no ray of the fan from `origin`, 0 < r <= max_range_m, meets the ball.
-  bool MayMeetBall(const Vec3& origin, double max_range_m, const Vec3& centre,
-                   double radius) const;
+  bool MayMeetBall(const Vec3& origin, double max_range_m, const Vec3& centre, double radius) const;
 };
 
 // The fan of `unit_directions` (not empty): the plane through the first and last directions

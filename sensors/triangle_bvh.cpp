@@ -75,7 +75,7 @@ std::optional<RayHit> TriangleBvh::Cast(const Vec3& o, const Vec3& d, double max
           ref = n.child[std::countr_zero(mask)];
           continue;
         }
-        Entry met[4];  // by decreasing entry
+        Entry met[4] = {};  // by decreasing entry
         int count = 0;
         for (; mask != 0; mask &= mask - 1) {
           const int k = std::countr_zero(mask);

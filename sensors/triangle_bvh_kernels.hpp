@@ -51,5 +51,4 @@ inline double Intersect(const Vec3& o, const Vec3& d, const Vec3& v0, const Vec3
   return e2.dot(q) * inv;
 }
 
-
 }  // namespace statebench::sensors::bvh_kernels

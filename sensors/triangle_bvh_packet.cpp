@@ -28,16 +28,24 @@ static_assert(kLanes >= 1 && kLanes <= 32);
 
 // One ray in the float box test's terms.
 struct PacketRay {
-  V4 origin[3];   // relative to the BVH's origin, all lanes equal
-  V4 inverse[3];  // 1 / d
+  V4 origin[3];      // relative to the BVH's origin, all lanes equal
+  V4 inverse[3];     // 1 / d
   int near_face[3];  // 0: the box's lo face is met first on this axis, 1: its hi face
 };
 
-// A pushed subtree, the rays that met its box and where each entered it.
+// A pushed subtree, the rays that met its box and where each entered it (t set for those rays
+// only).
 struct PacketEntry {
   std::int32_t ref;  // >= 0 a node, < 0 a leaf
   unsigned rays;     // bit l: ray l
   float t[kLanes];
+};
+
+// A child a node's test met: its slot in the node, the rays that met it and the smallest entry.
+struct MetChild {
+  int slot;
+  unsigned rays;
+  float nearest;
 };
 
 }  // namespace
@@ -75,7 +83,7 @@ void TriangleBvh::CastPacket(const Vec3* origins, const Vec3* directions, int co
       const Node& n = nodes_[static_cast<std::size_t>(ref)];
       const float* faces[2][3] = {{n.lo[0], n.lo[1], n.lo[2]}, {n.hi[0], n.hi[1], n.hi[2]}};
       // Per ray: the children met (bits) and the entries.
-      unsigned met[kLanes];  // set for the active rays only
+      unsigned met[kLanes];  // read for the active rays only
       V4 entry[kLanes];
       unsigned any = 0;
       for (unsigned lanes = active; lanes != 0; lanes &= lanes - 1) {
@@ -100,35 +108,36 @@ void TriangleBvh::CastPacket(const Vec3* origins, const Vec3* directions, int co
       }
       if (any != 0) {
         // The children met, by decreasing smallest entry among their rays.
-        PacketEntry children[4];
-        float key[4];
+        MetChild children[4];
         int count_met = 0;
         for (; any != 0; any &= any - 1) {
           const int k = std::countr_zero(any);
-          PacketEntry c;  // t set for its rays only
-          c.ref = n.child[k];
-          c.rays = 0u;
-          float nearest = 3.0e38f;
+          MetChild c{k, 0u, 3.0e38f};
           for (unsigned lanes = active; lanes != 0; lanes &= lanes - 1) {
             const int l = std::countr_zero(lanes);
             if ((met[l] >> k) & 1u) {
               c.rays |= 1u << l;
-              c.t[l] = entry[l][k];
-              nearest = std::min(nearest, c.t[l]);
+              c.nearest = std::min(c.nearest, entry[l][k]);
             }
           }
           int at = count_met++;
-          while (at > 0 && key[at - 1] < nearest) {
+          while (at > 0 && children[at - 1].nearest < c.nearest) {
             children[at] = children[at - 1];
-            key[at] = key[at - 1];
             --at;
           }
           children[at] = c;
-          key[at] = nearest;
         }
-        for (int k = 0; k < 4; ++k) stack[static_cast<std::size_t>(top + k)] = children[k];
-        top += count_met - 1;
-        ref = children[count_met - 1].ref;
+        // All but the nearest pushed, each with its rays' entries.
+        for (int m = 0; m + 1 < count_met; ++m) {
+          PacketEntry& e = stack[static_cast<std::size_t>(top++)];
+          e.ref = n.child[children[m].slot];
+          e.rays = children[m].rays;
+          for (unsigned lanes = e.rays; lanes != 0; lanes &= lanes - 1) {
+            const int l = std::countr_zero(lanes);
+            e.t[l] = entry[l][children[m].slot];
+          }
+        }
+        ref = n.child[children[count_met - 1].slot];
         active = children[count_met - 1].rays;
         continue;
       }

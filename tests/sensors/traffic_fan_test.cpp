@@ -115,8 +115,8 @@ TEST(RayFan, NeverCullsABallARayOfTheFanMeets) {
     const int c = static_cast<int>(Uniform01(rng) * beams.columns);
     std::vector<Vec3> directions;
     for (int r = 0; r < beams.channels(); ++r) directions.push_back(beams.Direction(c, r));
-    const Quat q(Eigen::AngleAxisd(6.0 * Uniform01(rng), Vec3(Uniform01(rng), Uniform01(rng), 1.0)
-                                                              .normalized()));
+    const Quat q(Eigen::AngleAxisd(6.0 * Uniform01(rng),
+                                   Vec3(Uniform01(rng), Uniform01(rng), 1.0).normalized()));
     const RayFan fan = FanOf(directions).Rotated(q);
     // A ball centred near a point of one of the rays, its radius just above the distance.
     const Vec3 d = q * directions[static_cast<std::size_t>(Uniform01(rng) * directions.size())];
