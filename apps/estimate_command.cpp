@@ -15,7 +15,7 @@
 #include "apps/estimator_feed.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
-#include "core/truth_io.hpp"
+#include "core/truth_csv_reader.hpp"
 #include "estimator/estimator_config.hpp"
 #include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
@@ -76,26 +76,35 @@ int RunEstimate(const std::vector<std::string>& argv) {
     std::optional<LocalEnuFrame> log_frame;
     if (reader.manifest().origin) log_frame.emplace(*reader.manifest().origin);
 
-    std::vector<TruthSample> truth;
-    std::optional<std::string> truth_error;
+    // The truth is streamed into the scorer (held there, not twice): it is scored when it holds
+    // a sample at all.
+    std::optional<TruthCsvReader> truth;
+    std::optional<TruthSample> first_truth;
     if (reader.manifest().truth_csv) {
-      TruthReadResult t = ReadTruthCsv(log_dir / *reader.manifest().truth_csv);
-      truth = std::move(t.samples);
-      truth_error = t.error;
+      const StageScope stage(Stage::kReading);
+      truth.emplace(log_dir / *reader.manifest().truth_csv);
+      first_truth = truth->Next();
     }
-    const double end_s = truth.empty() ? 0.0 : ToSeconds(truth.back().t_ns);
-    const bool has_truth = !truth.empty();
+    const bool has_truth = first_truth.has_value();
 
     EstimatorFeed feed(setup.imu_id, log_frame);
     feed.Add(name, name, out_dir, est::MakeEstimator(name, setup, files),
              args->Flag("full-covariance"));
-    if (!truth.empty()) {
+    double end_s = 0.0;
+    if (has_truth) {
       feed.ScoreAgainstTruth(setup.T_body_imu, {});
       feed.WriteDetails(out_dir);
-      for (const TruthSample& s : truth) feed.AddTruth(s);
-      truth.clear();
-      truth.shrink_to_fit();
+      const StageScope stage(Stage::kReading);
+      TimeNs last_ns = first_truth->t_ns;
+      feed.AddTruth(*first_truth);
+      while (const std::optional<TruthSample> s = truth->Next()) {
+        feed.AddTruth(*s);
+        last_ns = s->t_ns;
+      }
+      end_s = ToSeconds(last_ns);
     }
+    const std::optional<std::string> truth_error =
+        truth ? truth->error() : std::optional<std::string>();
     FeedProgress progress("estimate " + log_dir.filename().string(), end_s, quiet);
     const auto next = [&reader] {
       const StageScope stage(Stage::kReading);

@@ -136,11 +136,14 @@ int RunRun(const std::vector<std::string>& argv) {
     }
     // In the scenario's ENU frame, whatever origin each estimator chose.
     EstimatorFeed feed(setup.imu_id, LocalEnuFrame(scenario.origin));
+    // Factor graphs with the same lidar odometry and a constant-velocity prior register each
+    // scan once between them (the first to ask pays: its CPU time includes the registration).
+    est::LidarOdometryPool lidar_pool;
     for (const sim::EstimatorSpec& spec : specs) {
       const fs::path dir = out_dir / spec.label;
       feed.Add(spec.label, spec.type, dir,
                MakeScenarioEstimator(spec, scenario, setup, dir,
-                                     vehicle ? vehicle->file : fs::path()),
+                                     vehicle ? vehicle->file : fs::path(), &lidar_pool),
                args->Flag("full-covariance"), spec.inputs);
     }
 

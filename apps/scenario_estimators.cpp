@@ -52,7 +52,8 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
                                                       const sim::Scenario& scenario,
                                                       const est::EstimatorSensorSetup& setup,
                                                       const fs::path& dir,
-                                                      const fs::path& vehicle_file) {
+                                                      const fs::path& vehicle_file,
+                                                      est::LidarOdometryPool* lidar_pool) {
   // The estimator's own view of the setup: only its inputs.
   est::EstimatorSensorSetup own = setup;
   if (!spec.inputs.empty()) {
@@ -70,7 +71,7 @@ std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& 
   files.options = config;
   files.vehicle = vehicle_file.empty() ? scenario.vehicle_file : vehicle_file;
   try {
-    return est::MakeEstimator(spec.type, own, files);
+    return est::MakeEstimator(spec.type, own, files, lidar_pool);
   } catch (const InputError& e) {
     const std::string from = spec.config.empty() ? "built-in defaults" : spec.config.string();
     throw InputError(std::string(e.what()) + "\n  in the options of estimator '" + spec.label +

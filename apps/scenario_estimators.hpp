@@ -10,6 +10,7 @@
 
 #include "estimator/estimator.hpp"
 #include "estimator/estimator_config.hpp"
+#include "estimator/shared_lidar_odometry.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scenario_sensors.hpp"
 
@@ -29,10 +30,12 @@ est::EstimatorSensorSetup EstimatorSetupOf(const sim::ScenarioSensors& sensors);
 // from that file, so the run can be repeated from it. An InputError (a bad override, an option
 // that does not fit the sensor setup) names the written file's line and the scenario's entry.
 // vehicle_file: the vehicle parameters the estimator is told (empty: the scenario's own file).
+// lidar_pool: the run's shared lidar odometries (est::MakeEstimator).
 std::unique_ptr<est::Estimator> MakeScenarioEstimator(const sim::EstimatorSpec& spec,
                                                       const sim::Scenario& scenario,
                                                       const est::EstimatorSensorSetup& setup,
                                                       const std::filesystem::path& dir,
-                                                      const std::filesystem::path& vehicle_file = {});
+                                                      const std::filesystem::path& vehicle_file = {},
+                                                      est::LidarOdometryPool* lidar_pool = nullptr);
 
 }  // namespace statebench::app

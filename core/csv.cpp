@@ -32,17 +32,22 @@ void AppendNumber(std::string& out, std::int64_t value) {
 
 std::vector<std::string_view> SplitCsvLine(std::string_view line) {
   std::vector<std::string_view> cells;
+  SplitCsvLine(line, &cells);
+  return cells;
+}
+
+void SplitCsvLine(std::string_view line, std::vector<std::string_view>* cells) {
+  cells->clear();
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
     if (comma == std::string_view::npos) {
-      cells.push_back(Trim(line.substr(start)));
+      cells->push_back(Trim(line.substr(start)));
       break;
     }
-    cells.push_back(Trim(line.substr(start, comma - start)));
+    cells->push_back(Trim(line.substr(start, comma - start)));
     start = comma + 1;
   }
-  return cells;
 }
 
 std::vector<std::string> ParseCsvHeader(std::string_view file, std::string_view header_line,
@@ -66,6 +71,11 @@ void CsvRow::Fail(std::size_t column, const std::string& what) const {
   const std::string name = header_ && column < header_->size() ? (*header_)[column]
                                                                : std::to_string(column + 1);
   throw InputError(Where() + ": column '" + name + "': " + what);
+}
+
+std::string_view CsvRow::Text(std::size_t column) const {
+  if (column >= cells_.size()) Fail(column, "missing value");
+  return cells_[column];
 }
 
 double CsvRow::Double(std::size_t column) const {

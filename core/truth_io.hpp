@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/truth.hpp"
+#include "core/truth_csv_reader.hpp"  // ReadTruthCsv, for the readers of truth.csv
 
 namespace statebench {
 
@@ -36,14 +37,5 @@ class TruthWriter {
 
 // Appends one TUM line: seconds with 9 decimals, then position and quaternion (x y z w).
 void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame);
-
-struct TruthReadResult {
-  std::vector<TruthSample> samples;  // everything read before an error, if any
-  std::optional<std::string> error;  // "file:line: column 'x': ..."
-};
-
-// Reads truth.csv written by TruthWriter. Rejects missing columns, non-numeric or non-finite
-// values and stamps that do not increase; keeps the rows read before the first bad one.
-TruthReadResult ReadTruthCsv(const std::filesystem::path& path);
 
 }  // namespace statebench

@@ -94,6 +94,25 @@ const char* FactorUseName(FactorUse use) {
   return "?";
 }
 
+LidarPriorSource ParseLidarPriorSource(const std::string& value) {
+  if (value == "imu") return LidarPriorSource::kImu;
+  if (value == "constant_velocity") return LidarPriorSource::kConstantVelocity;
+  if (value == "gyro") return LidarPriorSource::kGyro;
+  throw InputError("expected imu, constant_velocity or gyro, got '" + value + "'");
+}
+
+const char* LidarPriorSourceName(LidarPriorSource source) {
+  switch (source) {
+    case LidarPriorSource::kImu:
+      return "imu";
+    case LidarPriorSource::kConstantVelocity:
+      return "constant_velocity";
+    case LidarPriorSource::kGyro:
+      return "gyro";
+  }
+  return "?";
+}
+
 const EstimatorSensor* EstimatorSensorSetup::Find(const std::string& id) const {
   for (const auto& s : sensors) {
     if (s.id == id) return &s;

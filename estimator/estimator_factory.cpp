@@ -9,11 +9,12 @@ namespace statebench::est {
 std::vector<std::string> KnownEstimators() { return {"factor_graph", "ekf"}; }
 
 std::unique_ptr<Estimator> MakeEstimator(const std::string& name, const EstimatorSensorSetup& setup,
-                                         const EstimatorFiles& files) {
+                                         const EstimatorFiles& files,
+                                         LidarOdometryPool* lidar_pool) {
   if (name == "factor_graph") {
     const FactorGraphOptions options =
         files.options.empty() ? FactorGraphOptions{} : LoadFactorGraphOptions(files.options);
-    return std::make_unique<FactorGraphEstimator>(setup, options);
+    return std::make_unique<FactorGraphEstimator>(setup, options, lidar_pool);
   }
   if (name == "ekf") {
     if (files.vehicle.empty()) {

@@ -9,6 +9,7 @@
 
 #include "estimator/estimator.hpp"
 #include "estimator/estimator_config.hpp"
+#include "estimator/shared_lidar_odometry.hpp"
 
 namespace statebench::est {
 
@@ -26,8 +27,10 @@ std::vector<std::string> KnownEstimators();
 
 // Throws InputError naming the estimator and listing the known ones if `name` is unknown, and
 // the loaders' InputErrors (file:line: field) on bad files; "ekf" without a vehicle file is an
-// InputError too.
+// InputError too. lidar_pool: shared lidar odometries of the run (factor_graph with
+// lidar.motion_prior: constant_velocity; shared_lidar_odometry.hpp); nullptr: none shared.
 std::unique_ptr<Estimator> MakeEstimator(const std::string& name, const EstimatorSensorSetup& setup,
-                                         const EstimatorFiles& files);
+                                         const EstimatorFiles& files,
+                                         LidarOdometryPool* lidar_pool = nullptr);
 
 }  // namespace statebench::est

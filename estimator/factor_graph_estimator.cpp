@@ -31,14 +31,14 @@ LocalStart LocalStartOf(const EstimatorSensorSetup& setup) {
 }  // namespace
 
 struct FactorGraphEstimator::Impl {
-  Impl(const EstimatorSensorSetup& s, const FactorGraphOptions& o)
+  Impl(const EstimatorSensorSetup& s, const FactorGraphOptions& o, LidarOdometryPool* lidar_pool)
       : setup(s),
         options(o),
         plan(PlanFactors(setup, o)),
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
             setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup)),
         intake(setup, FromSeconds(o.ReorderLatency(setup)), o.imu_limits),
-        front_end_set(MakeFrontEnds(setup, plan, options, ctx)) {
+        front_end_set(MakeFrontEnds(setup, plan, options, ctx, lidar_pool)) {
     for (const auto& f : front_end_set.all) front_ends.push_back(f.get());
   }
 
@@ -219,10 +219,11 @@ struct FactorGraphEstimator::Impl {
 };
 
 FactorGraphEstimator::FactorGraphEstimator(const EstimatorSensorSetup& setup,
-                                           const FactorGraphOptions& options) {
+                                           const FactorGraphOptions& options,
+                                           LidarOdometryPool* lidar_pool) {
   std::string why;
   if (!options.IsValid(&why)) throw InputError(why);
-  impl_ = std::make_unique<Impl>(setup, options);
+  impl_ = std::make_unique<Impl>(setup, options, lidar_pool);
 }
 
 FactorGraphEstimator::~FactorGraphEstimator() = default;

@@ -32,13 +32,17 @@
 #include "core/geodetic.hpp"
 #include "estimator/estimator.hpp"
 #include "estimator/estimator_config.hpp"
+#include "estimator/shared_lidar_odometry.hpp"
 
 namespace statebench::est {
 
 class FactorGraphEstimator final : public Estimator {
  public:
-  // Throws InputError if the options are not valid.
-  FactorGraphEstimator(const EstimatorSensorSetup& setup, const FactorGraphOptions& options);
+  // Throws InputError if the options are not valid. lidar_pool (may be nullptr; need not outlive
+  // the estimator): where a shared lidar odometry comes from (lidar.motion_prior:
+  // constant_velocity), so that the estimators of one run register each scan once.
+  FactorGraphEstimator(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
+                       LidarOdometryPool* lidar_pool = nullptr);
   ~FactorGraphEstimator() override;
   FactorGraphEstimator(const FactorGraphEstimator&) = delete;
   FactorGraphEstimator& operator=(const FactorGraphEstimator&) = delete;

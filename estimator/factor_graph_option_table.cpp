@@ -140,6 +140,19 @@ OptionTable<LidarFactorOptions> LidarTable() {
       .Section("robust_kernel", &L::kernel, KernelTable(), "robust loss of the factor")
       .Number("max_prior_deviation_m", &L::max_prior_deviation_m, Range::Positive(),
               "reject a registration this far from the IMU prediction")
+      .Custom(
+          "motion_prior",
+          [](const YamlNode& n, L* o) {
+            try {
+              o->motion_prior = ParseLidarPriorSource(n.As<std::string>());
+            } catch (const InputError& e) {
+              n.Fail(e.what());
+            }
+          },
+          [](const L& o) { return std::string(LidarPriorSourceName(o.motion_prior)); },
+          "imu, constant_velocity, gyro",
+          "guess and deskew: the estimator's IMU prediction; or, shared between estimators, the "
+          "odometry's constant velocity, or that with the raw gyro's rotation")
       .AddRule([](const L& o) -> std::optional<std::pair<std::string, std::string>> {
         if (o.odometry.max_range_m > o.odometry.min_range_m) return std::nullopt;
         return std::make_pair(std::string("max_range_m"), std::string("must exceed min_range_m"));

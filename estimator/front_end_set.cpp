@@ -8,7 +8,8 @@
 namespace statebench::est {
 
 FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& plan,
-                          const FactorGraphOptions& options, FrontEndContext& ctx) {
+                          const FactorGraphOptions& options, FrontEndContext& ctx,
+                          LidarOdometryPool* lidar_pool) {
   FrontEndSet set;
   auto encoders = std::make_unique<EncoderFrontEnd>(setup, plan, options, ctx);
   auto motion = std::make_unique<MotionConstraintFrontEnd>(setup, plan, options, *encoders, ctx);
@@ -16,7 +17,7 @@ FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& p
   set.gnss = gnss.get();
   set.all.push_back(std::move(encoders));
   set.all.push_back(std::move(motion));
-  set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx));
+  set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx, lidar_pool));
   set.all.push_back(std::move(gnss));
   set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, options, ctx));
   return set;

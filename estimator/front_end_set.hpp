@@ -9,6 +9,7 @@
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/gnss_front_end.hpp"
+#include "estimator/shared_lidar_odometry.hpp"
 
 namespace statebench::est {
 
@@ -18,7 +19,9 @@ struct FrontEndSet {
 };
 
 // `setup`, `plan`, `options` and `ctx` must outlive the front ends.
+// lidar_pool: shared lidar odometries (lidar_front_end.hpp); nullptr: none shared.
 FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& plan,
-                          const FactorGraphOptions& options, FrontEndContext& ctx);
+                          const FactorGraphOptions& options, FrontEndContext& ctx,
+                          LidarOdometryPool* lidar_pool = nullptr);
 
 }  // namespace statebench::est

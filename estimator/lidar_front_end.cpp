@@ -24,25 +24,53 @@ TimeNs SweepEnd(const LidarScan& scan) {
 }  // namespace
 
 LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
-                             const FactorGraphOptions& options, FrontEndContext& ctx)
+                             const FactorGraphOptions& options, FrontEndContext& ctx,
+                             LidarOdometryPool* pool)
     : setup_(setup), plan_(plan), options_(options), ctx_(ctx) {
-  if (!plan.lidars.empty()) odometry_.emplace(options.lidar.odometry);
+  if (plan.lidars.empty()) return;
+  std::vector<LidarMount> mounts;  // in the first lidar's frame
+  const SE3 T_ref_imu = plan.lidars.front()->T_imu_sensor.Inverse();
+  for (const EstimatorSensor* l : plan.lidars) {
+    mounts.push_back({l->id, T_ref_imu * l->T_imu_sensor});
+  }
+  if (options.lidar.motion_prior != LidarPriorSource::kImu) {
+    LidarSetKey key;
+    for (const LidarMount& m : mounts) key.mounts.emplace_back(m.id, m.T_ref_lidar);
+    std::optional<Quat> q_imu_lidar;
+    if (options.lidar.motion_prior == LidarPriorSource::kGyro) {
+      q_imu_lidar = plan.lidars.front()->T_imu_sensor.rotation();
+      gyro_.emplace();
+    }
+    shared_ = pool != nullptr
+                  ? pool->For(key, q_imu_lidar, options.lidar.odometry)
+                  : std::make_shared<SharedLidarOdometry>(options.lidar.odometry, q_imu_lidar);
+  } else {
+    odometry_.emplace(options.lidar.odometry);
+  }
   if (plan.lidars.size() > 1) {
     // Several lidars: one merged scan per period in the first lidar's frame.
-    std::vector<LidarMount> mounts;
-    const SE3 T_ref_imu = plan.lidars.front()->T_imu_sensor.Inverse();
-    for (const EstimatorSensor* l : plan.lidars) {
-      mounts.push_back({l->id, T_ref_imu * l->T_imu_sensor});
-    }
     LidarScanMergerOptions merge;
     merge.merged_id = plan.lidars.front()->id;
     merger_.emplace(std::move(mounts), merge);
   }
 }
 
+void LidarFrontEnd::OnImu(const ImuSample& sample) {
+  if (!gyro_) return;
+  gyro_->Add(sample.header.stamp_ns, sample.gyro);
+  // The gyro prior reaches back to the previous registered scan: two seconds cover a few
+  // rejected ones (beyond, the odometry's constant velocity alone, for every estimator alike).
+  gyro_->DropBefore(sample.header.stamp_ns - FromSeconds(2.0));
+}
+
 void LidarFrontEnd::OnRestart() {
-  if (odometry_) odometry_.emplace(options_.lidar.odometry);
   last_scan_ns_.reset();
+  if (shared_) {
+    // The shared odometry goes on (its scans keep coming); no factor reaches into the old window.
+    restart_ns_ = ctx_.newest_imu_ns;
+    return;
+  }
+  if (odometry_) odometry_.emplace(options_.lidar.odometry);
   waiting_.clear();
 }
 
@@ -61,12 +89,15 @@ void LidarFrontEnd::Process(const Measurement& m) {
   const LidarScan& scan = std::get<LidarScan>(m);
   const std::string& id = scan.header.sensor_id;
   if (!Used(id)) return ctx_.Reject(id, scan.header.stamp_ns, RejectReason::kDisabled);
-  if (!ctx_.initialized) return ctx_.Reject(id, scan.header.stamp_ns, RejectReason::kNotInitialized);
+  if (!ctx_.initialized) {
+    ctx_.Reject(id, scan.header.stamp_ns, RejectReason::kNotInitialized);
+    if (!shared_) return;  // a shared odometry registers every scan (the factors wait)
+  }
   if (!merger_) {
     waiting_.push_back(scan);
   } else {
     // Several lidars: counted here, registered as one merged scan (under the first id).
-    ctx_.Accept(id, scan.header.stamp_ns);
+    if (ctx_.initialized) ctx_.Accept(id, scan.header.stamp_ns);
     for (LidarScan& merged : merger_->Add(scan)) waiting_.push_back(std::move(merged));
   }
   ProcessWaitingScans();
@@ -76,6 +107,9 @@ void LidarFrontEnd::ProcessWaitingScans() {
   while (!waiting_.empty()) {
     const TimeNs sweep_end_ns = SweepEnd(waiting_.front());
     if (sweep_end_ns > ctx_.newest_imu_ns) return;
+    // The gyro prior waits for the released samples to cover the sweep (the same for every
+    // estimator sharing the odometry, whatever its reorder latency).
+    if (gyro_ && sweep_end_ns > gyro_->newest_ns()) return;
     const LidarScan scan = waiting_.front();
     waiting_.pop_front();
     RegisterScan(scan, sweep_end_ns);
@@ -108,17 +142,41 @@ std::optional<LidarMotionPrior> LidarFrontEnd::MotionPrior(TimeNs t, TimeNs swee
   if (table.empty() || (!*T_w_prev && last_scan_ns_)) return std::nullopt;
   LidarMotionPrior p;
   p.T_prev_curr = *T_w_prev ? (**T_w_prev * X).Inverse() * (*T_w_i * X) : SE3::Identity();
-  p.sweep = [table](double ts) {
-    if (ts <= table.front().first) return table.front().second;
-    for (std::size_t k = 1; k < table.size(); ++k) {
-      if (ts <= table[k].first) {
-        const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
-        return SE3::Interpolate(table[k - 1].second, table[k].second, a);
-      }
-    }
-    return table.back().second;
-  };
+  p.sweep = TabulatedSweepMotion(std::move(table));
   return p;
+}
+
+std::optional<SE3> LidarFrontEnd::PredictedMotion(TimeNs from_ns, TimeNs to_ns) const {
+  const SE3& X = plan_.lidars.front()->T_imu_sensor;
+  const std::vector<NavState> window = ctx_.smoother.WindowStates();
+  const auto from = ctx_.output.MeanAt(from_ns, window);
+  const auto to = ctx_.output.MeanAt(to_ns, window);
+  if (!from || !to) return std::nullopt;
+  return (SE3(from->q_world_imu, from->p_world) * X).Inverse() *
+         (SE3(to->q_world_imu, to->p_world) * X);
+}
+
+// The odometry's result for the scan and the estimator's prediction of the same motion (for the
+// gate): from this estimator's IMU prior, or from the shared odometry.
+LidarOdometryResult LidarFrontEnd::Registration(const LidarScan& scan, TimeNs sweep_end_ns,
+                                                std::optional<SE3>* T_w_prev,
+                                                std::optional<SE3>* T_prev_curr_imu) {
+  const TimeNs t = scan.header.stamp_ns;
+  if (shared_) {
+    const LidarOdometryResult r = [&] {
+      const StageScope stage(Stage::kLidarOdometry);
+      return shared_->Register(scan, sweep_end_ns, gyro_ ? &*gyro_ : nullptr);
+    }();
+    if (r.accepted && !r.first_scan && ctx_.initialized) {
+      *T_prev_curr_imu = PredictedMotion(r.prev_stamp_ns, t);
+      if (*T_prev_curr_imu) *T_w_prev = SE3::Identity();  // (only its presence is read)
+    }
+    return r;
+  }
+  const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, T_w_prev);
+  if (prior) *T_prev_curr_imu = prior->T_prev_curr;
+  const StageScope stage(Stage::kLidarOdometry);
+  return odometry_->RegisterScan(scan, prior);
 }
 
 void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
@@ -126,11 +184,13 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   const std::string& id = lidar.id;
   const TimeNs t = scan.header.stamp_ns;
   std::optional<SE3> T_w_prev;
-  const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, &T_w_prev);
-  const LidarOdometryResult r = [&] {
-    const StageScope stage(Stage::kLidarOdometry);
-    return odometry_->RegisterScan(scan, prior);
-  }();
+  std::optional<SE3> T_prev_curr_imu;
+  const LidarOdometryResult r = Registration(scan, sweep_end_ns, &T_w_prev, &T_prev_curr_imu);
+  const bool merged = merger_.has_value();  // the input scans were counted already
+  if (!ctx_.initialized) {  // a shared odometry's scan before the first state: no factor
+    if (r.accepted) ctx_.Count(id, "registered_before_initialization");
+    return;
+  }
   if (!r.accepted) {
     // The category of the reason (its text before the details in parentheses).
     const std::string reason = r.reject_reason.substr(0, r.reject_reason.find(" ("));
@@ -138,14 +198,16 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
     return ctx_.Reject(id, t, RejectReason::kRegistrationFailed);
   }
   if (r.diagnostics.degenerate) ctx_.Count(id, "degenerate");
+  // The first scan of the estimator's window (a shared odometry's previous scan may precede
+  // the first state or a restart): it anchors the next factor.
+  const bool anchor = r.first_scan || (shared_ && (!last_scan_ns_ || r.prev_stamp_ns < restart_ns_));
   last_scan_ns_ = t;
-  const bool merged = merger_.has_value();  // the input scans were counted already
-  if (r.first_scan) {
+  if (anchor) {
     ctx_.Count(id, "registered");
     return merged ? void() : ctx_.Accept(id, t);
   }
-  if (prior && T_w_prev) {
-    const SE3 deviation = prior->T_prev_curr.Inverse() * r.T_prev_curr;
+  if (T_prev_curr_imu && T_w_prev) {
+    const SE3 deviation = T_prev_curr_imu->Inverse() * r.T_prev_curr;
     if (deviation.translation().norm() > options_.lidar.max_prior_deviation_m) {
       ctx_.Count(id, "deviates_from_imu_prior");
       return ctx_.Reject(id, t, RejectReason::kMahalanobisGate);

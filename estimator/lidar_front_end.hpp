@@ -3,27 +3,38 @@
 // (poses every 5 ms over the sweep, from the window or the IMU-rate propagation), registered by
 // the lidar odometry, checked against the IMU prior, and become relative-pose factors between
 // consecutive scans with the odometry's covariance (scaled and floored).
+//
+// With lidar.motion_prior: constant_velocity (or gyro) the odometry predicts with its own model
+// (and the raw gyro's rotation) instead and is shared (shared_lidar_odometry.hpp): every scan of the used lidars is registered, before
+// the initialisation and across restarts too, so that the registrations depend on the scans
+// alone; the factors still start at the estimator's first state and are gated against its own
+// IMU prediction.
 #pragma once
 
 #include <deque>
+#include <memory>
 #include <optional>
 
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/lidar_odometry.hpp"
 #include "estimator/lidar_scan_merger.hpp"
+#include "estimator/shared_lidar_odometry.hpp"
 
 namespace statebench::est {
 
 class LidarFrontEnd final : public MeasurementFrontEnd {
  public:
-  // `setup` (through `plan`) and `options` must outlive the front end.
+  // `setup` (through `plan`) and `options` must outlive the front end. pool: where a shared
+  // odometry comes from (constant-velocity prior); nullptr: one of its own.
   LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
-                const FactorGraphOptions& options, FrontEndContext& ctx);
+                const FactorGraphOptions& options, FrontEndContext& ctx,
+                LidarOdometryPool* pool = nullptr);
 
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
   void AfterRelease() override { ProcessWaitingScans(); }
+  void OnImu(const ImuSample& sample) override;
   // A new map and no previous scan: the next relative motion starts from the new window.
   void OnRestart() override;
 
@@ -33,15 +44,23 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
   std::optional<LidarMotionPrior> MotionPrior(TimeNs t_ns, TimeNs sweep_end_ns,
                                               std::optional<SE3>* T_world_prev) const;
   void RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns);
+  LidarOdometryResult Registration(const LidarScan& scan, TimeNs sweep_end_ns,
+                                   std::optional<SE3>* T_w_prev,
+                                   std::optional<SE3>* T_prev_curr_imu);
+  // The lidar's motion between two stamps predicted by the estimator (nullopt if not held).
+  std::optional<SE3> PredictedMotion(TimeNs from_ns, TimeNs to_ns) const;
 
   const EstimatorSensorSetup& setup_;
   const FactorPlan& plan_;
   const FactorGraphOptions& options_;
   FrontEndContext& ctx_;
-  std::optional<LidarOdometry> odometry_;
+  std::optional<LidarOdometry> odometry_;          // IMU prior: this estimator's own
+  std::shared_ptr<SharedLidarOdometry> shared_;   // constant-velocity or gyro prior
+  std::optional<GyroTrack> gyro_;                  // gyro prior: the raw samples
   std::optional<LidarScanMerger> merger_;  // with more than one lidar
   std::deque<LidarScan> waiting_;          // released scans whose sweep the IMU has not covered
   std::optional<TimeNs> last_scan_ns_;     // stamp of the newest accepted scan
+  TimeNs restart_ns_ = INT64_MIN;          // shared odometry: no factor reaches before this
 };
 
 }  // namespace statebench::est

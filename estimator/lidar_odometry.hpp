@@ -91,6 +91,12 @@ class LidarOdometry {
                                    const std::optional<LidarMotionPrior>& prior = std::nullopt);
 
   const SE3& T_world_lidar() const { return T_world_lidar_; }
+  // The constant-velocity model's twist ((rho, phi) per second, lidar frame) once two scans were
+  // registered, and the newest accepted stamp once one was.
+  std::optional<Vec6> twist() const { return has_twist_ ? std::optional<Vec6>(twist_) : std::nullopt; }
+  std::optional<TimeNs> last_stamp_ns() const {
+    return initialized_ ? std::optional<TimeNs>(last_stamp_ns_) : std::nullopt;
+  }
   const VoxelHashMap& local_map() const { return map_; }
 
  private:

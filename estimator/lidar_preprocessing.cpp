@@ -16,6 +16,19 @@ SweepMotion StaticSweepMotion() {
   return [](double) { return SE3::Identity(); };
 }
 
+SweepMotion TabulatedSweepMotion(std::vector<std::pair<double, SE3>> table) {
+  return [table = std::move(table)](double ts) {
+    if (ts <= table.front().first) return table.front().second;
+    for (std::size_t k = 1; k < table.size(); ++k) {
+      if (ts <= table[k].first) {
+        const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
+        return SE3::Interpolate(table[k - 1].second, table[k].second, a);
+      }
+    }
+    return table.back().second;
+  };
+}
+
 std::vector<TimedPoint> FilterScanPoints(const std::vector<LidarPoint>& points,
                                          const LidarFilterOptions& options,
                                          LidarFilterStats* stats) {

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "core/eigen_types.hpp"
@@ -24,6 +25,9 @@ using SweepMotion = std::function<SE3(double t_s)>;
 // is the lidar motion over the previous scan period dt_s (> 0).
 SweepMotion ConstantVelocitySweepMotion(const SE3& T_prev_curr, double dt_s);
 SweepMotion StaticSweepMotion();
+// Poses tabulated at increasing times (the first at 0), interpolated on SE3 between them and held
+// beyond the ends. `table` must not be empty.
+SweepMotion TabulatedSweepMotion(std::vector<std::pair<double, SE3>> table);
 
 struct TimedPoint {
   Vec3 p_lidar = Vec3::Zero();

@@ -22,6 +22,22 @@ enum class FactorUse { kAuto, kOn, kOff };
 FactorUse ParseFactorUse(const std::string& value);
 const char* FactorUseName(FactorUse use);
 
+// Where the lidar odometry's motion prediction (initial guess and deskew within the sweep) comes
+// from:
+//   imu:               the estimator's own window and IMU-rate propagation (each estimator
+//                      registers its scans itself);
+//   constant_velocity: the odometry's own constant-velocity model, as KISS-ICP and the paper run
+//                      it. The registrations then depend on the scans and the odometry's
+//                      options only, so the estimators of one run with the same lidars and
+//                      odometry options share one registration per scan
+//                      (shared_lidar_odometry.hpp);
+//   gyro:              rotations from the raw gyro, translations from the constant-velocity
+//                      model: shared like constant_velocity (the raw samples are the same for
+//                      every estimator).
+enum class LidarPriorSource { kImu, kConstantVelocity, kGyro };
+LidarPriorSource ParseLidarPriorSource(const std::string& value);  // InputError otherwise
+const char* LidarPriorSourceName(LidarPriorSource source);
+
 struct LidarFactorOptions {
   FactorUse use = FactorUse::kAuto;
   LidarOdometryOptions odometry;
@@ -35,6 +51,7 @@ struct LidarFactorOptions {
   // A registration whose translation differs from the IMU prediction by more than this
   // (per scan period) is rejected as an ICP failure.
   double max_prior_deviation_m = 1.0;
+  LidarPriorSource motion_prior = LidarPriorSource::kImu;
 };
 
 // Kinematic factor (paper): the rear-axle speed V from the speed encoder and the front

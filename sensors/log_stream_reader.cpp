@@ -60,7 +60,8 @@ std::optional<Measurement> LogStreamReader::Next() {
 }
 
 Measurement LogStreamReader::ParseLine(const std::string& line) {
-  const CsvRow row(path_text_, line_, &header_, SplitCsvLine(line));
+  SplitCsvLine(line, &cells_);
+  const CsvRow row(path_text_, line_, &header_, cells_);
   const StampColumns c = StampColumnsOf(entry_.type);
   CheckColumnCount(entry_.type, row);
   const TimeNs stamp_ns = row.Int(c.stamp);

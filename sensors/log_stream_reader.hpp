@@ -12,6 +12,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/measurements.hpp"
@@ -38,6 +39,7 @@ class LogStreamReader {
   std::filesystem::path pcd_dir_;  // lidar: the index path without ".csv"
   std::ifstream in_;
   std::vector<std::string> header_;
+  std::vector<std::string_view> cells_;  // of the row being parsed (storage reused)
   std::size_t line_ = 0;
   bool done_ = false;
   std::optional<std::string> error_;

@@ -120,5 +120,30 @@ TEST(TruthIo, BadRowsAreReportedAndEarlierRowsKept) {
   EXPECT_EQ(r.samples.size(), 1u);
 }
 
+// The streaming reader gives the samples one by one, the same as the whole-file read, and stops
+// at a bad row with the samples before it given.
+TEST(TruthIo, StreamingReaderGivesTheSamplesUpToTheFirstBadRow) {
+  const auto dir = FreshDir("truth_stream");
+  {
+    TruthWriter w(dir, SE3());
+    for (int i = 0; i < 10; ++i) w.Write(MakeSample(i));
+  }
+  TruthCsvReader reader(WriteBrokenCopy(dir, 7, 3, "", "x"));
+  std::vector<TimeNs> stamps;
+  while (const auto s = reader.Next()) stamps.push_back(s->t_ns);
+  ASSERT_TRUE(reader.error());
+  EXPECT_NE(reader.error()->find(":7: column 'p_world_body_z': expected a number, got 'x'"),
+            std::string::npos)
+      << *reader.error();
+  ASSERT_EQ(stamps.size(), 5u);
+  EXPECT_EQ(stamps.back(), MakeSample(4).t_ns);
+  EXPECT_FALSE(reader.Next());
+
+  TruthCsvReader missing(dir / "no_such_truth.csv");
+  EXPECT_FALSE(missing.Next());
+  ASSERT_TRUE(missing.error());
+  EXPECT_NE(missing.error()->find("cannot open"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace statebench

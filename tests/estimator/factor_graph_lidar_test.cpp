@@ -11,7 +11,7 @@
 #include "core/measurement_faults.hpp"
 #include "estimator/factor_graph_estimator.hpp"
 #include "estimator_scenario.hpp"
-#include "synthetic_lidar_scene.hpp"
+#include "lidar_test_stream.hpp"
 
 namespace statebench::est {
 namespace {
@@ -20,49 +20,8 @@ using testing::MakeScenario;
 using testing::MakeSetup;
 using testing::Scenario;
 using testing::ScenarioOptions;
-
-const SE3 kImuLidar(Quat::Identity(), Vec3(-0.2, 0.0, 1.4));
-const std::string kLidarEntry =
-    "  - {type: lidar, id: lidar_roof, rate_hz: 10, latency_s: 0.02, "
-    "T_body_sensor: {translation: [-0.2, 0, 1.4]}, model: hesai_xt32}\n";
-
-// Walls and poles around the test's figure eight (|x| < 40, |y| < 20), never on it.
-testing::Scene Surroundings() {
-  testing::Scene s;
-  s.boxes.push_back({Vec3(-60, 28, 0), Vec3(60, 30, 8)});
-  s.boxes.push_back({Vec3(-60, -30, 0), Vec3(60, -28, 6)});
-  s.boxes.push_back({Vec3(50, -30, 0), Vec3(52, 30, 10)});
-  s.boxes.push_back({Vec3(-52, -30, 0), Vec3(-50, 30, 7)});
-  for (double x : {-30.0, -25.0, -20.0, 20.0, 25.0, 30.0}) {
-    for (double y : {-4.0, 0.0, 4.0}) s.poles.push_back({x, y + 0.3 * x / 10.0, 0.3, 4.0});
-  }
-  s.boxes.push_back({Vec3(-3, -45, 0), Vec3(3, -35, 5)});
-  return s;
-}
-
-// The stream with a scan every 0.1 s over [from_s, to_s) inserted at its arrival time.
-std::vector<Measurement> WithScans(const Scenario& sc, double from_s, double to_s) {
-  const testing::Scene scene = Surroundings();
-  testing::ScannerModel model;
-  model.columns = 360;
-  std::vector<Measurement> stream = sc.stream;
-  for (double t = from_s; t < to_s - 1e-9; t += 0.1) {
-    LidarScan scan;
-    scan.header.sensor_id = "lidar_roof";
-    scan.header.stamp_ns = FromSeconds(t);
-    scan.header.arrival_ns = FromSeconds(t + 0.12);
-    const auto pose = [&](double dt) {
-      const NavState x = sc.Truth(FromSeconds(t + dt));
-      return SE3(x.q_world_imu, x.p_world) * kImuLidar;
-    };
-    scan.points = std::make_shared<std::vector<LidarPoint>>(testing::Scan(scene, pose, model));
-    const auto at = std::find_if(stream.begin(), stream.end(), [&](const Measurement& m) {
-      return HeaderOf(m).arrival_ns > scan.header.arrival_ns;
-    });
-    stream.insert(at, scan);
-  }
-  return stream;
-}
+using testing::kLidarEntry;
+using testing::WithScans;
 
 FactorGraphOptions Options() {
   FactorGraphOptions o;
