@@ -23,6 +23,7 @@
 #include "apps/scenario_estimators.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "apps/scored_outages.hpp"
+#include "apps/lidar_odometry_cache.hpp"
 #include "apps/stage_cache_options.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
@@ -134,11 +135,22 @@ int RunRun(const std::vector<std::string>& argv) {
                                                scenario.vehicle_file,
                                                out_dir / "vehicle_estimators.yaml");
     }
+    std::unique_ptr<StageCache> cache = OpenStageCache(*args);
+    sim::SensorRunOptions run_options;
+    if (cache) run_options.cache = {cache.get(), BuildIdentity()};
     // In the scenario's ENU frame, whatever origin each estimator chose.
     EstimatorFeed feed(setup.imu_id, LocalEnuFrame(scenario.origin));
-    // Factor graphs with the same lidar odometry and a constant-velocity prior register each
-    // scan once between them (the first to ask pays: its CPU time includes the registration).
-    est::LidarOdometryPool lidar_pool;
+    // Factor graphs with the same lidar odometry and a prior of their own (gyro, constant
+    // velocity) register each scan once between them (the first to ask pays: its CPU time
+    // includes the registration); with --cache, runs with the same inputs read them.
+    std::unique_ptr<CachedRegistrationStore> registrations;
+    if (cache) {
+      if (const auto inputs = sim::EstimatorInputsKey(scenario, sensors, run_options.sumo,
+                                                      scenario.seed, BuildIdentity())) {
+        registrations = std::make_unique<CachedRegistrationStore>(*cache, *inputs);
+      }
+    }
+    est::LidarOdometryPool lidar_pool(registrations.get());
     for (const sim::EstimatorSpec& spec : specs) {
       const fs::path dir = out_dir / spec.label;
       feed.Add(spec.label, spec.type, dir,
@@ -151,9 +163,6 @@ int RunRun(const std::vector<std::string>& argv) {
       std::fprintf(stderr, "run: %s: building network, running SUMO, building the world...\n",
                    scenario.name.c_str());
     }
-    std::unique_ptr<StageCache> cache = OpenStageCache(*args);
-    sim::SensorRunOptions run_options;
-    if (cache) run_options.cache = {cache.get(), BuildIdentity()};
     sim::SensorRun run(scenario, out_dir, run_options);
     // Scored against the truth of the IMU as mounted (with a mismatch, not where the setup says).
     feed.ScoreAgainstTruth(run.T_body_imu(), ScoredOutages(run.sensors(), run.truth().end_ns()));
@@ -169,6 +178,7 @@ int RunRun(const std::vector<std::string>& argv) {
       }
     }
     progress.Finish();
+    lidar_pool.Finish();  // the run is complete: its registrations go into the cache
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
@@ -222,6 +232,9 @@ int RunRun(const std::vector<std::string>& argv) {
     if (scenario.mismatch) summary["mismatch"] = MismatchJson(sensors.mismatch, *vehicle);
     summary["memory"] = memory.Json();
     summary["cpu"] = cpu.Json(feed.estimators(), end_s);
+    for (const auto& [registered, reused] : lidar_pool.Counts()) {
+      summary["shared_lidar_odometry"].push_back({{"registered", registered}, {"reused", reused}});
+    }
     if (cache) {
       summary["cache"] = CacheCountsJson(*cache);
       cache->Prune();

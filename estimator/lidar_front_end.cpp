@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <span>
 #include <utility>
 #include <vector>
@@ -36,6 +37,11 @@ LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan
   if (options.lidar.motion_prior != LidarPriorSource::kImu) {
     LidarSetKey key;
     for (const LidarMount& m : mounts) key.mounts.emplace_back(m.id, m.T_ref_lidar);
+    char intake[160];
+    std::snprintf(intake, sizeof intake, "reorder %.17g s, imu limits %.17g %.17g %.17g",
+                  options.ReorderLatency(setup), options.imu_limits.max_accel_mps2,
+                  options.imu_limits.max_gyro_radps, options.imu_limits.max_gap_s);
+    key.intake = intake;
     std::optional<Quat> q_imu_lidar;
     if (options.lidar.motion_prior == LidarPriorSource::kGyro) {
       q_imu_lidar = plan.lidars.front()->T_imu_sensor.rotation();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/error.hpp"
+
 namespace statebench::est {
 namespace {
 
@@ -23,7 +25,7 @@ LidarOdometryResult NotRegistered(const LidarScan& scan, const std::string& why)
 
 std::string SharedOdometryKey(const LidarSetKey& lidars, const std::optional<Quat>& q_imu_lidar,
                               const LidarOdometryOptions& o) {
-  std::string key = "gyro:";
+  std::string key = "intake:" + lidars.intake + ";gyro:";
   if (q_imu_lidar) {
     for (const double c : {q_imu_lidar->w(), q_imu_lidar->x(), q_imu_lidar->y(), q_imu_lidar->z()}) {
       Put(&key, c);
@@ -104,14 +106,41 @@ LidarOdometryResult SharedLidarOdometry::Register(const LidarScan& scan, TimeNs 
   if (it != recent_.end()) {
     return NotRegistered(scan, "not registered (the shared odometry is past this scan)");
   }
-  std::optional<LidarMotionPrior> prior;
-  if (q_imu_lidar_ && gyro != nullptr) prior = GyroPrior(t, sweep_end_ns, *gyro);
-  Entry e{t, points, odometry_.RegisterScan(scan, prior)};
+  Entry e{t, points, Compute(scan, sweep_end_ns, gyro)};
   ++registered_;
   if (computed != nullptr) *computed = true;
+  if (keep_all_) all_.push_back({t, points, e.result});
   recent_.push_back(std::move(e));
   if (recent_.size() > kRecentScans) recent_.pop_front();
   return recent_.back().result;
+}
+
+void SharedLidarOdometry::Replay(std::vector<RecordedRegistration> recorded) {
+  replay_ = std::move(recorded);
+  replay_next_ = 0;
+}
+
+LidarOdometryResult SharedLidarOdometry::Compute(const LidarScan& scan, TimeNs sweep_end_ns,
+                                                 const GyroTrack* gyro) {
+  if (replay_) {
+    if (replay_next_ >= replay_->size() || (*replay_)[replay_next_].stamp_ns != scan.header.stamp_ns ||
+        (*replay_)[replay_next_].points != (scan.points ? scan.points->size() : 0)) {
+      throw InputError("the recorded lidar registrations do not match the scans (scan at " +
+                       std::to_string(ToSeconds(scan.header.stamp_ns)) + " s)");
+    }
+    return (*replay_)[replay_next_++].result;
+  }
+  std::optional<LidarMotionPrior> prior;
+  if (q_imu_lidar_ && gyro != nullptr) prior = GyroPrior(scan.header.stamp_ns, sweep_end_ns, *gyro);
+  return odometry_.RegisterScan(scan, prior);
+}
+
+void LidarOdometryPool::Finish() {
+  if (store_ == nullptr) return;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [key, odometry] : odometries_) {
+    if (!odometry->replaying()) store_->Save(key, odometry->all());
+  }
 }
 
 std::shared_ptr<SharedLidarOdometry> LidarOdometryPool::For(const LidarSetKey& lidars,
@@ -120,8 +149,26 @@ std::shared_ptr<SharedLidarOdometry> LidarOdometryPool::For(const LidarSetKey& l
   const std::string key = SharedOdometryKey(lidars, q_imu_lidar, options);
   const std::lock_guard<std::mutex> lock(mutex_);
   std::shared_ptr<SharedLidarOdometry>& o = odometries_[key];
-  if (!o) o = std::make_shared<SharedLidarOdometry>(options, q_imu_lidar);
+  if (!o) {
+    o = std::make_shared<SharedLidarOdometry>(options, q_imu_lidar);
+    if (store_ != nullptr) {
+      if (auto recorded = store_->Load(key)) {
+        o->Replay(std::move(*recorded));
+      } else {
+        o->KeepAll();
+      }
+    }
+  }
   return o;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> LidarOdometryPool::Counts() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<std::size_t, std::size_t>> counts;
+  for (const auto& [key, odometry] : odometries_) {
+    counts.emplace_back(odometry->registered(), odometry->reused());
+  }
+  return counts;
 }
 
 std::size_t LidarOdometryPool::size() const {

@@ -82,6 +82,32 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
   return keys;
 }
 
+std::optional<std::string> EstimatorInputsKey(const Scenario& scenario,
+                                              const ScenarioSensors& sensors,
+                                              const SumoRunOptions& options,
+                                              std::uint64_t sensor_seed,
+                                              const std::string& code_id) {
+  const std::optional<std::string> truth_key = TruthStageKey(scenario, options, code_id);
+  if (!truth_key) return std::nullopt;
+  Sha256 key;
+  key.Field("estimator inputs v1").Field(code_id).Field(*truth_key);
+  for (const auto& [id, k] : SensorStreamKeys(scenario, sensors, *truth_key, sensor_seed, code_id)) {
+    key.Field(id).Field(k);
+  }
+  key.Field(scenario.faults ? ToYamlText(scenario.faults->raw()) : "");
+  if (scenario.mismatch) {
+    const MismatchOptions& m = *scenario.mismatch;
+    key.Field("mismatch");
+    for (const double v : {m.imu_spread, m.gnss_covariance_scale_min, m.gnss_covariance_scale_max,
+                           m.mount_translation_sigma_m, m.mount_rotation_sigma_deg,
+                           m.clock_offset_sigma_s, m.vehicle_mass_spread,
+                           m.vehicle_cornering_stiffness_spread}) {
+      key.Field(Number(v));
+    }
+  }
+  return key.Hex();
+}
+
 SumoResult SimulateSumoCached(const Scenario& scenario, const EgoVehicleType& ego_type,
                               const fs::path& work_dir, const SumoRunOptions& options,
                               const StageCacheUse& use) {

@@ -42,6 +42,15 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
                                                     std::uint64_t sensor_seed,
                                                     const std::string& code_id);
 
+// Key of everything the estimators of a run are fed: the truth key, every sensor's stream key,
+// the scenario's faults (outages and injected faults act on the streams) and its mismatch
+// (mounts, clocks and the units drawn). nullopt when the truth is not cacheable.
+std::optional<std::string> EstimatorInputsKey(const Scenario& scenario,
+                                              const ScenarioSensors& sensors,
+                                              const SumoRunOptions& options,
+                                              std::uint64_t sensor_seed,
+                                              const std::string& code_id);
+
 // SimulateSumo, or its cached result (the network file is copied into work_dir/sumo either way,
 // so a run folder looks the same). One process computes a key at a time; the others wait.
 SumoResult SimulateSumoCached(const Scenario& scenario, const EgoVehicleType& ego_type,

@@ -4,11 +4,16 @@
 // sequence is refused with its reason, not registered twice.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/so3.hpp"
 #include "estimator/factor_graph_estimator.hpp"
 #include "estimator/shared_lidar_odometry.hpp"
@@ -86,6 +91,11 @@ TEST_P(SharedLidarOdometryPrior, EstimatorsSharingAPoolGiveWhatEachGivesAlone) {
   }
   const std::vector<Outputs> together = FeedInStep(shared, stream);
   EXPECT_EQ(pool.size(), 1u);  // one lidar, one set of odometry options
+  // Each scan registered once, handed to the two others.
+  const auto counts = pool.Counts();
+  ASSERT_EQ(counts.size(), 1u);
+  EXPECT_GE(counts[0].first, 100u);
+  EXPECT_EQ(counts[0].second, 2 * counts[0].first);
 
   for (std::size_t k = 0; k < shared.size(); ++k) {
     std::vector<std::unique_ptr<FactorGraphEstimator>> one;
@@ -159,12 +169,86 @@ TEST(SharedLidarOdometry, EachScanIsRegisteredOnceAndOutOfSequenceScansAreRefuse
   EXPECT_EQ(shared.registered(), scans.size());
 }
 
+// A store in memory: what a pool records, a later pool replays.
+class MemoryRegistrationStore final : public RegistrationStore {
+ public:
+  std::optional<std::vector<RecordedRegistration>> Load(const std::string& key) override {
+    const auto it = saved.find(key);
+    if (it == saved.end()) return std::nullopt;
+    return it->second;
+  }
+  void Save(const std::string& key, const std::vector<RecordedRegistration>& r) override {
+    saved[key] = r;
+  }
+  std::map<std::string, std::vector<RecordedRegistration>> saved;
+};
+
+TEST(SharedLidarOdometry, ARecordedRunReplaysBitForBitThroughAFile) {
+  ScenarioOptions so;
+  so.duration_s = 8.0;
+  const Scenario sc = MakeScenario(so);
+  const std::vector<Measurement> stream = WithScans(sc, 0.5, 8.0);
+  const EstimatorSensorSetup setup = MakeSetup(sc.options, kLidarEntry);
+  const auto run = [&](LidarOdometryPool& pool) {
+    std::vector<std::unique_ptr<FactorGraphEstimator>> one;
+    one.push_back(std::make_unique<FactorGraphEstimator>(
+        setup, SharedPriorOptions(1.0, LidarPriorSource::kGyro), &pool));
+    std::vector<Outputs> out = FeedInStep(one, stream);
+    pool.Finish();
+    return out[0];
+  };
+  MemoryRegistrationStore store;
+  LidarOdometryPool recording(&store);
+  const Outputs first = run(recording);
+  ASSERT_EQ(store.saved.size(), 1u);
+  std::vector<RecordedRegistration>& recorded = store.saved.begin()->second;
+  EXPECT_GE(recorded.size(), 70u);  // of 75 scans: the last wait for IMU beyond the stream
+
+  // Through a file: every field back, bit for bit (the replay below compares the estimates).
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("shared_lidar_odometry_test_" + std::to_string(getpid()));
+  WriteRegistrations(file, recorded);
+  recorded = ReadRegistrations(file);
+  std::filesystem::remove(file);
+
+  LidarOdometryPool replaying(&store);
+  const Outputs second = run(replaying);
+  ExpectBitIdentical(first.estimates, second.estimates);
+  EXPECT_EQ(first.diagnostics.sensors.at("lidar_roof").events,
+            second.diagnostics.sensors.at("lidar_roof").events);
+  EXPECT_EQ(replaying.Counts()[0].first, recorded.size());
+
+  // A record of other scans is refused, not replayed.
+  recorded.erase(recorded.begin() + 3);
+  LidarOdometryPool wrong(&store);
+  EXPECT_THROW(run(wrong), InputError);
+}
+
+TEST(SharedLidarOdometry, ATruncatedRecordIsAnErrorNamingTheFile) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("shared_lidar_odometry_trunc_" + std::to_string(getpid()));
+  RecordedRegistration r;
+  r.stamp_ns = 7;
+  r.result.reject_reason = "too few points";
+  WriteRegistrations(file, {r, r});
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 9);
+  try {
+    ReadRegistrations(file);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(file);
+}
+
 TEST(SharedLidarOdometry, PoolKeysOnLidarsAndEveryOdometryOption) {
   LidarOdometryPool pool;
   LidarSetKey roof;
   roof.mounts = {{"lidar_roof", SE3::Identity()}};
   LidarSetKey pair = roof;
   pair.mounts.push_back({"lidar_rear", SE3(Quat::Identity(), Vec3(-1.0, 0.0, 0.0))});
+  LidarSetKey roof_late = roof;
+  roof_late.intake = "reorder 0.2 s";
   LidarSetKey pair_moved = pair;
   pair_moved.mounts[1].second = SE3(Quat::Identity(), Vec3(-1.0, 0.0, 1e-6));
   const LidarOdometryOptions base;
@@ -182,11 +266,11 @@ TEST(SharedLidarOdometry, PoolKeysOnLidarsAndEveryOdometryOption) {
   for (const auto& other :
        {g, pool.For(roof, tilted, base), pool.For(pair, std::nullopt, base),
         pool.For(pair_moved, std::nullopt, base), pool.For(roof, std::nullopt, voxel),
-        pool.For(roof, std::nullopt, icp)}) {
+        pool.For(roof, std::nullopt, icp), pool.For(roof_late, std::nullopt, base)}) {
     EXPECT_NE(other, a);
   }
   EXPECT_NE(pool.For(roof, tilted, base), g);
-  EXPECT_EQ(pool.size(), 7u);
+  EXPECT_EQ(pool.size(), 8u);
 }
 
 }  // namespace
