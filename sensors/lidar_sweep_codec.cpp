@@ -94,21 +94,33 @@ void EncodeSweep(const std::vector<LidarPoint>& points, SweepPlanes& planes) {
 }
 
 void DecodeSweep(const SweepPlanes& planes, std::size_t n, std::vector<LidarPoint>& points) {
-  auto plane = [&](SweepField f) { return planes[static_cast<std::size_t>(f)].data(); };
-  const std::uint8_t *t = plane(SweepField::kT), *ring = plane(SweepField::kRing),
-                     *x = plane(SweepField::kX), *y = plane(SweepField::kY),
-                     *z = plane(SweepField::kZ), *intensity = plane(SweepField::kIntensity);
+  // The differences first, in loops the compiler vectorises, then the predictions point by point.
+  thread_local std::array<std::vector<std::uint32_t>, kSweepFieldCount> differences;
+  for (std::size_t f = 0; f < kSweepFieldCount; ++f) {
+    std::vector<std::uint32_t>& d = differences[f];
+    d.resize(n);
+    const std::uint8_t* p = planes[f].data();
+    if (static_cast<SweepField>(f) == SweepField::kRing) {
+      for (std::size_t k = 0; k < n; ++k) d[k] = GetPlanes<2>(p, n, k);
+    } else {
+      for (std::size_t k = 0; k < n; ++k) d[k] = UnZigZag(GetPlanes<4>(p, n, k));
+    }
+  }
+  auto field = [&](SweepField f) { return differences[static_cast<std::size_t>(f)].data(); };
+  const std::uint32_t *t = field(SweepField::kT), *ring = field(SweepField::kRing),
+                      *x = field(SweepField::kX), *y = field(SweepField::kY),
+                      *z = field(SweepField::kZ), *intensity = field(SweepField::kIntensity);
   points.resize(n);
   SweepPredictor predict;
   for (std::size_t k = 0; k < n; ++k) {
-    const std::uint16_t r = RingFromDifference(predict.Ring(), GetPlanes<2>(ring, n, k));
-    const std::uint32_t t_bits = predict.T() + UnZigZag(GetPlanes<4>(t, n, k));
+    const std::uint16_t r = RingFromDifference(predict.Ring(), ring[k]);
+    const std::uint32_t t_bits = predict.T() + t[k];
     predict.Begin(r, t_bits);
-    const std::uint32_t x_bits = predict.X() + UnZigZag(GetPlanes<4>(x, n, k));
-    const std::uint32_t y_bits = predict.Y(x_bits) + UnZigZag(GetPlanes<4>(y, n, k));
+    const std::uint32_t x_bits = predict.X() + x[k];
+    const std::uint32_t y_bits = predict.Y(x_bits) + y[k];
     predict.XY(x_bits, y_bits);
-    const std::uint32_t z_bits = predict.Z() + UnZigZag(GetPlanes<4>(z, n, k));
-    const std::uint32_t i_bits = predict.Intensity() + UnZigZag(GetPlanes<4>(intensity, n, k));
+    const std::uint32_t z_bits = predict.Z() + z[k];
+    const std::uint32_t i_bits = predict.Intensity() + intensity[k];
     predict.End(x_bits, y_bits, z_bits, i_bits);
     points[k] = LidarPoint{FromBits(x_bits), FromBits(y_bits), FromBits(z_bits),
                            FromBits(i_bits), FromBits(t_bits), r};

@@ -95,7 +95,7 @@ class SweepPredictor {
   // x and y of the point are known: its horizontal distance h (at a column's first point
   // sqrt(x^2 + y^2), which gives the column's azimuth; then |x| / |c|, or |y| / |s| when
   // |s| > |c|), without a square root or division per point.
-  void XY(std::uint32_t x_bits, std::uint32_t y_bits) {
+  [[gnu::always_inline]] void XY(std::uint32_t x_bits, std::uint32_t y_bits) {
     Checked k;
     if (head_) {
       const double x = k.Float(x_bits), y = k.Float(y_bits);
