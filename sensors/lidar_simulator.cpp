@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ LidarSimulator::LidarSimulator(const LidarWorld& world, LidarModelParams params,
   directions_lidar_.reserve(static_cast<std::size_t>(beams.columns) * beams.channels());
   for (int c = 0; c < beams.columns; ++c) {
     for (int r = 0; r < beams.channels(); ++r) directions_lidar_.push_back(beams.Direction(c, r));
+    column_fans_.push_back(FanOf(std::span(directions_lidar_).last(beams.channels())));
   }
 }
 
@@ -86,42 +88,80 @@ void LidarSimulator::SimulateBlock(const Sweep& sweep, const TrafficWindow& traf
   std::mt19937_64 rng = MakeRng(seed_, sweep.stream + "/block/" + std::to_string(block));
   NormalSampler normal;
   out->reserve(static_cast<std::size_t>(column_end - column_begin) * channels);
-  for (int c = column_begin; c < column_end; ++c) {
-    const SE3& T = sweep.T_world_column[c];
-    const Vec3& origin = T.translation();
-    const float t_rel = static_cast<float>(ToSeconds(sweep.t_column[c] - sweep.t_start_ns));
-    for (int ring = 0; ring < channels; ++ring) {
-      // Exact hit: static world, then traffic at this column's firing time in front of it.
-      const Vec3& d_lidar = directions_lidar_[static_cast<std::size_t>(c) * channels + ring];
-      const Vec3 d_world = T.rotation() * d_lidar;
-      std::optional<RayHit> hit = world_.CastStatic(origin, d_world, max_range);
-      if (auto car =
-              traffic.Cast(origin, d_world, hit ? hit->range_m : max_range, sweep.t_column[c])) {
-        hit = car;
-      }
-      if (!hit || hit->range_m < params_.min_range_m) continue;
+  constexpr int kGroup = LidarWorld::kStaticPacketSize;
+  const auto group_rays = static_cast<std::size_t>(kGroup * channels);
+  std::vector<Vec3> d_world_group(group_rays);                  // [k * channels + ring]
+  std::vector<std::optional<RayHit>> static_hits(group_rays);  // the same
+  std::vector<PosedTrafficBox> vehicles;  // those the column may see, at its firing time
+  for (int c0 = column_begin; c0 < column_end; c0 += kGroup) {
+    const int group = std::min(kGroup, column_end - c0);
+    CastStaticColumns(sweep, c0, group, d_world_group.data(), static_hits.data());
+    for (int c = c0; c < c0 + group; ++c) {
+      const SE3& T = sweep.T_world_column[c];
+      const Vec3& origin = T.translation();
+      const float t_rel = static_cast<float>(ToSeconds(sweep.t_column[c] - sweep.t_start_ns));
+      traffic.PoseFor(column_fans_[static_cast<std::size_t>(c)].Rotated(T.rotation()), origin,
+                      max_range, sweep.t_column[c], &vehicles);
+      for (int ring = 0; ring < channels; ++ring) {
+        // Exact hit: static world, then traffic at this column's firing time in front of it.
+        const Vec3& d_lidar = directions_lidar_[static_cast<std::size_t>(c) * channels + ring];
+        const auto at = static_cast<std::size_t>((c - c0) * channels + ring);
+        const Vec3& d_world = d_world_group[at];
+        std::optional<RayHit> hit = static_hits[at];
+        if (!vehicles.empty()) {
+          if (auto car =
+                  TrafficWindow::Cast(vehicles, origin, d_world, hit ? hit->range_m : max_range)) {
+            hit = car;
+          }
+        }
+        if (!hit || hit->range_m < params_.min_range_m) continue;
 
-      // Error model: detection limit, dropout, range noise.
-      const double rho = Reflectivity(hit->material);
-      const double cos_incidence = std::abs(hit->normal_world.dot(d_world));
-      if (params_.range_at_10pct_m > 0.0 &&
-          hit->range_m >
-              params_.range_at_10pct_m * std::sqrt(rho * cos_incidence / kReferenceReflectivity)) {
-        continue;
+        // Error model: detection limit, dropout, range noise.
+        const double rho = Reflectivity(hit->material);
+        const double cos_incidence = std::abs(hit->normal_world.dot(d_world));
+        if (params_.range_at_10pct_m > 0.0 &&
+            hit->range_m > params_.range_at_10pct_m *
+                               std::sqrt(rho * cos_incidence / kReferenceReflectivity)) {
+          continue;
+        }
+        const double u = Uniform01(rng);
+        const double noise = params_.range_noise_sigma_m * normal(rng);
+        if (u < params_.dropout_probability) continue;
+        const Vec3 p = (hit->range_m + noise) * d_lidar;
+        LidarPoint point;
+        point.x = static_cast<float>(p.x());
+        point.y = static_cast<float>(p.y());
+        point.z = static_cast<float>(p.z());
+        point.intensity = static_cast<float>(100.0 * rho * cos_incidence);
+        point.t = t_rel;
+        point.ring = static_cast<std::uint16_t>(ring);
+        out->push_back(point);
       }
-      const double u = Uniform01(rng);
-      const double noise = params_.range_noise_sigma_m * normal(rng);
-      if (u < params_.dropout_probability) continue;
-      const Vec3 p = (hit->range_m + noise) * d_lidar;
-      LidarPoint point;
-      point.x = static_cast<float>(p.x());
-      point.y = static_cast<float>(p.y());
-      point.z = static_cast<float>(p.z());
-      point.intensity = static_cast<float>(100.0 * rho * cos_incidence);
-      point.t = t_rel;
-      point.ring = static_cast<std::uint16_t>(ring);
-      out->push_back(point);
     }
+  }
+}
+
+void LidarSimulator::CastStaticColumns(const Sweep& sweep, int column_begin, int count,
+                                       Vec3* d_world, std::optional<RayHit>* hits) const {
+  constexpr int kGroup = LidarWorld::kStaticPacketSize;
+  const int channels = params_.beams.channels();
+  std::array<Vec3, kGroup> origins;
+  for (int k = 0; k < count; ++k) {
+    const SE3& T = sweep.T_world_column[column_begin + k];
+    origins[k] = T.translation();
+    for (int ring = 0; ring < channels; ++ring) {
+      const Vec3& d_lidar =
+          directions_lidar_[static_cast<std::size_t>(column_begin + k) * channels + ring];
+      d_world[k * channels + ring] = T.rotation() * d_lidar;
+    }
+  }
+  std::array<Vec3, kGroup> directions;
+  std::array<std::optional<RayHit>, kGroup> packet;
+  for (int ring = 0; ring < channels; ++ring) {
+    for (int k = 0; k < count; ++k) directions[k] = d_world[k * channels + ring];
+    world_.CastStaticPacket(origins.data(), directions.data(), count, params_.max_range_m,
+                            packet.data());
+    for (int k = 0; k < count; ++k) hits[k * channels + ring] = packet[k];
   }
 }
 

@@ -11,6 +11,10 @@
 // the kept range gets Gaussian noise along the beam. Intensity = 100 * reflectivity *
 // cos(incidence) (a calibrated-reflectivity style value in [0, 100]).
 //
+// Static hits are cast in packets (LidarWorld::CastStaticPacket: one channel of up to
+// kStaticPacketSize adjacent columns, same ranges as single rays, faster); traffic per column
+// (TrafficWindow::PoseFor, then one cast per ray).
+//
 // Determinism: the sweep is cut into fixed blocks of kColumnsPerBlock columns, simulated in
 // parallel with TBB; block b draws its errors from MakeRng(seed, "<sensor_id>/scan/<scan_index>/
 // block/<b>") in column-major, ring-ascending order, and the blocks' points are concatenated in
@@ -27,6 +31,7 @@
 #include "core/time.hpp"
 #include "sensors/lidar_model_params.hpp"
 #include "sensors/lidar_world.hpp"
+#include "sensors/ray_fan.hpp"
 #include "sensors/traffic_window.hpp"
 
 namespace statebench::sensors {
@@ -63,11 +68,16 @@ class LidarSimulator {
   };
   void SimulateBlock(const Sweep& sweep, const TrafficWindow& traffic, int column_begin,
                      int column_end, int block, std::vector<LidarPoint>* out) const;
+  // Static hits of `count` (<= LidarWorld::kStaticPacketSize) columns from column_begin, one
+  // packet per channel: d_world and hits [k * channels + ring] for column column_begin + k.
+  void CastStaticColumns(const Sweep& sweep, int column_begin, int count, Vec3* d_world,
+                         std::optional<RayHit>* hits) const;
 
   const LidarWorld& world_;
   LidarModelParams params_;
   std::uint64_t seed_;
   std::vector<Vec3> directions_lidar_;  // per (column, ring), column-major
+  std::vector<RayFan> column_fans_;     // per column, lidar frame
 };
 
 }  // namespace statebench::sensors

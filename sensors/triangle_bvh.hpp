@@ -11,7 +11,11 @@
 //   - every triangle a leaf proposes is intersected exactly, in double (Moller-Trumbore on the
 //     world-frame vertices), so ranges are those of the Bullet-walk reference kernel
 //     (LidarWorld::CastStaticBullet) whatever the float boxes.
-// Read-only after construction: Cast is thread-safe.
+// CastPacket walks up to kPacketSize rays together (triangle_bvh_packet.cpp): each node is
+// fetched and decided once for the packet, each ray keeps its own box tests, culling and best
+// hit, so each gets Cast's range. A lidar channel over adjacent columns (nearly one origin, 0.18
+// degrees apart) meets nearly the same nodes: 1.7x Cast's rays per CPU second on the dense town.
+// Read-only after construction: Cast and CastPacket are thread-safe.
 #pragma once
 
 #include <cstdint>
@@ -31,14 +35,25 @@ namespace statebench::sensors {
 double IntersectTriangle(const Vec3& o, const Vec3& d, const Vec3& v0, const Vec3& e1,
                          const Vec3& e2);
 
-struct BvhBinaryNode;  // the binary tree while building (triangle_bvh.cpp)
+struct BvhBinaryNode;  // the binary tree while building (triangle_bvh_build.cpp)
 
 class TriangleBvh {
  public:
+  static constexpr int kMaxBuildDepth = 48;  // deeper, nodes are split at their list's middle
+  static constexpr double kBoxPadM = 1e-3;   // node boxes padded by this much (and rounded out)
+
   TriangleBvh(const std::vector<const TriangleMesh*>& meshes, const Vec3& origin);
 
   // Closest triangle along o + r d, 0 < r <= max_range_m (d a unit vector, world frame).
   std::optional<RayHit> Cast(const Vec3& o, const Vec3& d, double max_range_m) const;
+
+  // The same for `count` (1 to kPacketSize) rays walked together, hits[k] for ray k: the ranges
+  // Cast gives (the triangle too, unless two lie at exactly the same range). Cheaper per ray
+  // when the rays are close (e.g. one channel of adjacent lidar columns: they meet nearly the
+  // same nodes).
+  static constexpr int kPacketSize = 25;
+  void CastPacket(const Vec3* origins, const Vec3* directions, int count, double max_range_m,
+                  std::optional<RayHit>* hits) const;
 
   std::size_t node_count() const { return nodes_.size(); }
   std::size_t triangle_count() const { return triangles_.size(); }
@@ -69,6 +84,8 @@ class TriangleBvh {
   };
 
   void Collapse(const std::vector<BvhBinaryNode>& binary);
+  // The hit on triangle `triangle` (-1: none) at range_m along d, its normal facing the ray.
+  std::optional<RayHit> HitOf(int triangle, double range_m, const Vec3& d) const;
 
   std::vector<Node> nodes_;  // the root first
   std::vector<Leaf> leaves_;

@@ -11,6 +11,7 @@
 #include <btBulletCollisionCommon.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <utility>
@@ -150,6 +151,45 @@ void BM_Xt32UrbanStaticKernel(benchmark::State& state) {
 BENCHMARK(BM_Xt32UrbanStaticKernel<false>)->Name("BM_Xt32UrbanStaticKernel/bvh")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Xt32UrbanStaticKernel<true>)->Name("BM_Xt32UrbanStaticKernel/bullet_walk")
+    ->Unit(benchmark::kMillisecond);
+
+// CastStaticPacket on the same rays: one channel of four adjacent columns per packet, as the
+// simulation casts them.
+void BM_Xt32UrbanStaticKernelPacket(benchmark::State& state) {
+  const UrbanScene& scene = Scene();
+  const LidarWorld& world = *scene.world;
+  const double max_range = scene.lidar->params().max_range_m;
+  const int channels = scene.lidar->params().beams.channels();
+  const std::vector<std::pair<Vec3, Vec3>> rays = SweepRays(scene);
+  const int columns = static_cast<int>(rays.size()) / channels;
+  constexpr int kPacket = LidarWorld::kStaticPacketSize;
+  std::size_t hits = 0;
+  const double cpu_start = ProcessCpuSeconds();
+  for (auto _ : state) {
+    hits = 0;
+    for (int c0 = 0; c0 < columns; c0 += kPacket) {
+      const int n = std::min(kPacket, columns - c0);
+      for (int r = 0; r < channels; ++r) {
+        Vec3 origins[kPacket];
+        Vec3 directions[kPacket];
+        std::optional<RayHit> out[kPacket];
+        for (int k = 0; k < n; ++k) {
+          const auto& ray = rays[static_cast<std::size_t>((c0 + k) * channels + r)];
+          origins[k] = ray.first;
+          directions[k] = ray.second;
+        }
+        world.CastStaticPacket(origins, directions, n, max_range, out);
+        for (int k = 0; k < n; ++k) hits += out[k] ? 1 : 0;
+      }
+    }
+    benchmark::DoNotOptimize(hits);
+  }
+  const double cpu_seconds = ProcessCpuSeconds() - cpu_start;
+  const double cast = static_cast<double>(rays.size()) * static_cast<double>(state.iterations());
+  state.counters["rays_per_cpu_s"] = cast / cpu_seconds;
+  state.counters["hits_per_scan"] = static_cast<double>(hits);
+}
+BENCHMARK(BM_Xt32UrbanStaticKernelPacket)->Name("BM_Xt32UrbanStaticKernel/bvh_packet")
     ->Unit(benchmark::kMillisecond);
 
 #ifdef STATEBENCH_HAVE_EMBREE

@@ -125,6 +125,77 @@ TEST(TriangleBvh, EmptyAndSingleLeafWorlds) {
   EXPECT_NEAR(hit->normal_world.x(), -1.0, 1e-12);  // facing the ray's origin
   EXPECT_FALSE(one.Cast(Vec3::Zero(), Vec3::UnitX(), 4.9));   // beyond the range
   EXPECT_FALSE(one.Cast(Vec3::Zero(), -Vec3::UnitX(), 10.0));  // behind the origin
+
+  // Packets: one ray of each kind.
+  const Vec3 origins[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  const Vec3 directions[3] = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitX()};
+  std::optional<RayHit> packet[3];
+  one.CastPacket(origins, directions, 3, 10.0, packet);
+  ASSERT_TRUE(packet[0]);
+  EXPECT_DOUBLE_EQ(packet[0]->range_m, 5.0);
+  EXPECT_FALSE(packet[1]);
+  ASSERT_TRUE(packet[2]);
+  empty.CastPacket(origins, directions, 3, 10.0, packet);
+  EXPECT_FALSE(packet[0] || packet[1] || packet[2]);
+}
+
+// Packets (CastPacket) against single rays (Cast) on the dense town: the same hits, the same
+// ranges bit for bit, the same surfaces. Lidar-like packets (one channel of adjacent columns
+// from a moving sensor, every size up to the packet size) and incoherent ones (rays from
+// anywhere to anywhere, with zero direction components).
+TEST(TriangleBvh, PacketsCastLikeSingleRaysOnTheDenseTown) {
+  const RoadGeometry roads = bench::DenseTownRoads();
+  const std::unique_ptr<LidarWorld> world = bench::BuildDenseTown(roads);
+  std::mt19937_64 rng = MakeRng(12, "bvh packets");
+  constexpr int kPacket = LidarWorld::kStaticPacketSize;
+  int hits = 0;
+  int rays = 0;
+  const auto check = [&](const Vec3* origins, const Vec3* directions, int count, double max_range) {
+    std::optional<RayHit> packet[kPacket];
+    world->CastStaticPacket(origins, directions, count, max_range, packet);
+    for (int k = 0; k < count; ++k) {
+      const auto single = world->CastStatic(origins[k], directions[k], max_range);
+      ++rays;
+      ASSERT_EQ(packet[k].has_value(), single.has_value()) << "ray " << rays;
+      if (!single) continue;
+      ++hits;
+      ASSERT_EQ(packet[k]->range_m, single->range_m) << "ray " << rays;
+      ASSERT_EQ(packet[k]->material, single->material) << "ray " << rays;
+      ASSERT_EQ(packet[k]->normal_world, single->normal_world) << "ray " << rays;
+    }
+  };
+  Vec3 origins[kPacket];
+  Vec3 directions[kPacket];
+  for (int trial = 0; trial < 1500; ++trial) {
+    const int count = 1 + trial % kPacket;
+    const double x = 600.0 * Uniform01(rng);
+    const double y = 600.0 * Uniform01(rng);
+    const Vec3 start(x, y, bench::DenseTownTerrain(x, y) + 0.5 + 2.5 * Uniform01(rng));
+    const Vec3 velocity(20.0 * Uniform01(rng) - 10.0, 20.0 * Uniform01(rng) - 10.0, 0.0);
+    const double az0 = 2.0 * M_PI * Uniform01(rng);
+    const double el = (-20.0 + 36.0 * Uniform01(rng)) * M_PI / 180.0;
+    for (int k = 0; k < count; ++k) {  // columns 50 us and 0.18 degrees apart
+      const double az = az0 - k * 2.0 * M_PI / 2000.0;
+      origins[k] = start + 50e-6 * k * velocity;
+      directions[k] = Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    }
+    check(origins, directions, count, 120.0);
+    if (HasFatalFailure()) return;
+  }
+  for (int trial = 0; trial < 400; ++trial) {
+    const int count = 1 + trial % kPacket;
+    for (int k = 0; k < count; ++k) {
+      origins[k] = Vec3(800.0 * Uniform01(rng) - 100.0, 800.0 * Uniform01(rng) - 100.0,
+                        -5.0 + 40.0 * Uniform01(rng));
+      directions[k] = Vec3(2.0 * Uniform01(rng) - 1.0, 2.0 * Uniform01(rng) - 1.0,
+                           2.0 * Uniform01(rng) - 1.0)
+                          .normalized();
+      if (k % 5 == 0) directions[k] = Vec3::Unit(k % 3) * (k % 2 == 0 ? 1.0 : -1.0);
+    }
+    check(origins, directions, count, 300.0 * Uniform01(rng));
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GT(hits, rays / 2);
 }
 
 }  // namespace
