@@ -1,4 +1,4 @@
-// statebench record SCENARIO.yaml --out LOG [--seed N] [--duration S] [--quiet]
+// statebench record SCENARIO.yaml --out LOG [--seed N] [--duration S] [--lidar-format F] [--quiet]
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -22,12 +22,15 @@ namespace statebench::app {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: statebench record SCENARIO.yaml --out LOG [--seed N] [--duration S] [--quiet]\n"
+    "usage: statebench record SCENARIO.yaml --out LOG [--seed N] [--duration S]\n"
+    "                         [--lidar-format sweep|pcd] [--quiet]\n"
     "  Simulates the scenario's truth and every sensor of its setup (`sensors:` in the scenario,\n"
     "  with its `faults:`) and writes a recorded log directory (docs/log-format.md): IMU, GNSS,\n"
-    "  encoder CSVs, one PCD per lidar sweep, setup.yaml, truth.csv + TUM, log.yaml.\n"
+    "  encoder CSVs, one file per lidar sweep, setup.yaml, truth.csv + TUM, log.yaml.\n"
     "  --seed N      scenario seed (traffic, world, sensor errors)\n"
-    "  --duration S  simulated seconds (default: the scenario's)\n";
+    "  --duration S  simulated seconds (default: the scenario's)\n"
+    "  --lidar-format sweep|pcd  sweep (default): compressed StateBench sweep files, lossless;\n"
+    "                pcd: binary PCDs for PCL tools (about 5x larger)\n";
 
 // GNSS fix counts by status, for the summary ("rtk_fixed 2391, rtk_float 9").
 std::string StatusCounts(const std::map<GnssFixStatus, std::size_t>& counts) {
@@ -43,7 +46,7 @@ std::string StatusCounts(const std::map<GnssFixStatus, std::size_t>& counts) {
 
 int RunRecord(const std::vector<std::string>& argv) {
   const auto parsed =
-      ParseCommand({"record", kUsage, {"quiet"}, {"out", "seed", "duration"}, 1, {"out"}}, argv);
+      ParseCommand({"record", kUsage, {"quiet"}, {"out", "seed", "duration", "lidar-format"}, 1, {"out"}}, argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs* args = &std::get<CliArgs>(parsed);
   const std::filesystem::path out_dir = *args->Option("out");
@@ -51,6 +54,14 @@ int RunRecord(const std::vector<std::string>& argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
+    sensors::LidarFileFormat lidar_format = sensors::LidarFileFormat::kSweep;
+    if (const auto name = args->Option("lidar-format")) {
+      const auto parsed_format = sensors::ParseLidarFileFormat(*name);
+      if (!parsed_format) {
+        throw InputError("--lidar-format: '" + *name + "' is not sweep or pcd");
+      }
+      lidar_format = *parsed_format;
+    }
     if (std::filesystem::exists(out_dir / "log.yaml")) {
       throw InputError(out_dir.string() + ": already holds a log (log.yaml); remove it or " +
                        "choose another --out");
@@ -67,6 +78,7 @@ int RunRecord(const std::vector<std::string>& argv) {
     options.origin = scenario.origin;
     options.setup_yaml = run.sensors().setup_yaml;
     options.truth_T_body_imu = run.T_body_imu();
+    options.lidar_format = lidar_format;
     sensors::LogWriter writer(out_dir, options);
 
     ProgressBar bar("record " + scenario.name);

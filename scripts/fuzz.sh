@@ -10,7 +10,7 @@
 # with the final report's slowest_unit_time_sec checked against 1 s is the honest alternative).
 # TARGETs: default all three (fuzz_config, fuzz_log_reader, fuzz_estimators).
 # Seeds come from the project's own files (tests/fuzz/make_seeds.py: the scenarios, setups,
-# options and vehicles, and a 0.3 s log recorded with build/bin/statebench); each target keeps
+# options and vehicles, and 0.3 s logs recorded with build/bin/statebench); each target keeps
 # its working corpus in DIR/fuzz/<target>/corpus and its findings (crash-*, leak-*, timeout-*:
 # an input that takes over 1 s) in DIR/fuzz/<target>/. Exit status 1 on any finding.
 set -euo pipefail
@@ -38,8 +38,11 @@ if [ ! -d "$seeds" ]; then
   [ -x "$statebench" ] || { echo "fuzz: $statebench is needed to record the seed log (bash scripts/setup.sh)" >&2; exit 1; }
   log=$(mktemp -d)
   trap 'rm -rf "$log"' EXIT
+  # Two logs: lidar sweeps as sweep files (the default) and as PCDs.
   "$statebench" record scenarios/paper/setup3_shuttle.yaml --duration 0.3 --out "$log/log" >/dev/null 2>&1
-  python3 tests/fuzz/make_seeds.py "$PWD" "$log/log" "$seeds"
+  "$statebench" record scenarios/paper/setup3_shuttle.yaml --duration 0.3 --out "$log/log_pcd" \
+    --lidar-format pcd >/dev/null 2>&1
+  python3 tests/fuzz/make_seeds.py "$PWD" "$log/log" "$seeds" "$log/log_pcd"
 fi
 
 # One target per core at a time.

@@ -8,6 +8,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libyaml-cpp-dev libceres-dev libgeographiclib-dev libtbb-dev
   libbullet-dev libpcl-dev libsqlite3-dev nlohmann-json3-dev
+  libzstd-dev  # the compressed lidar sweep files of recorded logs
   # statebench import/export rosbag: ROS1 bag I/O and the message headers it converts
   librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libtf2-msgs-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -4,7 +4,7 @@
 
 #include "core/csv.hpp"
 #include "core/error.hpp"
-#include "sensors/lidar_pcd_io.hpp"
+#include "sensors/lidar_file.hpp"
 #include "sensors/log_csv.hpp"
 
 namespace statebench::sensors {
@@ -18,7 +18,7 @@ bool IsBlank(const std::string& line) {
 
 LogStreamReader::LogStreamReader(const std::filesystem::path& log_dir, const LogStreamEntry& entry)
     : entry_(entry), path_(log_dir / entry.file), path_text_(path_.string()) {
-  pcd_dir_ = path_.parent_path() / path_.stem();
+  sweep_dir_ = path_.parent_path() / path_.stem();
   in_.open(path_, std::ios::binary);
   if (!in_) {
     error_ = path_text_ + ": cannot open (listed in log.yaml for sensor '" + entry_.id + "')";
@@ -83,14 +83,14 @@ Measurement LogStreamReader::ParseLine(const std::string& line) {
   if (count < 0) row.Fail(2, "must be >= 0");
   const std::string name(row.Text(3));
   if (name.empty() || name.find_first_of("/\\") != std::string::npos || name == "..") {
-    row.Fail(3, "expected a PCD file name in " + pcd_dir_.string());
+    row.Fail(3, "expected a sweep or PCD file name in " + sweep_dir_.string());
   }
   LidarScan scan;
   scan.header = MeasurementHeader{entry_.id, stamp_ns, arrival_ns};
   try {
-    auto points = std::make_shared<std::vector<LidarPoint>>(ReadLidarPcd(pcd_dir_ / name));
+    auto points = std::make_shared<std::vector<LidarPoint>>(ReadLidarFile(sweep_dir_ / name));
     if (points->size() != static_cast<std::size_t>(count)) {
-      throw InputError((pcd_dir_ / name).string() + ": holds " + std::to_string(points->size()) +
+      throw InputError((sweep_dir_ / name).string() + ": holds " + std::to_string(points->size()) +
                        " points, the index says " + std::to_string(count));
     }
     scan.points = std::move(points);

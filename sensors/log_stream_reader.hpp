@@ -36,7 +36,7 @@ class LogStreamReader {
   LogStreamEntry entry_;
   std::filesystem::path path_;
   std::string path_text_;
-  std::filesystem::path pcd_dir_;  // lidar: the index path without ".csv"
+  std::filesystem::path sweep_dir_;  // lidar: the index path without ".csv", holding the sweeps
   std::ifstream in_;
   std::vector<std::string> header_;
   std::vector<std::string_view> cells_;  // of the row being parsed (storage reused)

@@ -5,7 +5,7 @@
 #include "core/error.hpp"
 #include "core/stage_profile.hpp"
 #include "core/truth_io.hpp"
-#include "sensors/lidar_pcd_io.hpp"
+#include "sensors/lidar_file.hpp"
 #include "sensors/log_csv.hpp"
 
 namespace statebench::sensors {
@@ -127,10 +127,12 @@ void LogWriter::Write(const Measurement& m) {
 }
 
 void LogWriter::WriteLidar(Stream& s, const LidarScan& scan) {
-  const std::string name = std::to_string(scan.header.stamp_ns) + ".pcd";
+  const std::string name = std::to_string(scan.header.stamp_ns) +
+                           std::string(LidarFileExtension(options_.lidar_format));
   static const std::vector<LidarPoint> kNone;
   const std::vector<LidarPoint>& points = scan.points ? *scan.points : kNone;
-  WriteLidarPcd(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id / name, points);
+  WriteLidarFile(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id / name, points,
+                 options_.lidar_format);
   AppendLidarIndexRow(s.buffer, scan, name);
   s.lidar_points += points.size();
 }

@@ -1,7 +1,7 @@
 // Writes a recorded log directory (docs/log-format.md) from a measurement stream: per sensor a
 // CSV file in the folder of its type (imu/, gnss/, heading/, wheels/, speed/, steering/,
-// body_velocity/), per lidar a sweep index lidar/<id>.csv plus one PCD per sweep in
-// lidar/<id>/<stamp_ns>.pcd, the sensor setup as setup.yaml, optionally the truth (truth.csv,
+// body_velocity/), per lidar a sweep index lidar/<id>.csv plus one file per sweep in
+// lidar/<id>/<stamp_ns>.sweep (or .pcd, LogWriterOptions::lidar_format), the sensor setup as setup.yaml, optionally the truth (truth.csv,
 // truth_body.tum, truth_imu.tum via core/truth_io.hpp), and the manifest log.yaml last.
 //
 // Numbers are written in shortest round-trip form and lidar points as raw floats, so LogReader
@@ -20,6 +20,7 @@
 #include "core/measurements.hpp"
 #include "core/se3.hpp"
 #include "core/truth.hpp"
+#include "sensors/lidar_file.hpp"
 #include "sensors/log_manifest.hpp"
 
 namespace statebench {
@@ -34,6 +35,7 @@ struct LogWriterOptions {
   std::optional<GeodeticPoint> origin;
   std::string setup_yaml;               // copied to setup.yaml when not empty
   std::optional<SE3> truth_T_body_imu;  // when set, WriteTruth writes the truth files
+  LidarFileFormat lidar_format = LidarFileFormat::kSweep;  // the files of the lidar sweeps
 };
 
 struct LogStreamStats {

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Seed corpora of the fuzz targets, from the project's own files (scripts/fuzz.sh calls this).
 
-make_seeds.py SOURCE_DIR LOG_DIR OUT_DIR
+make_seeds.py SOURCE_DIR LOG_DIR OUT_DIR [MORE_LOG_DIRS...]
   SOURCE_DIR: the repository (scenarios/, setups, options, vehicles)
-  LOG_DIR:    a short log recorded by `statebench record` (its files, cut to a few rows)
+  LOG_DIR:    a short log recorded by `statebench record` (its files, cut to a few rows); more
+              logs (another lidar file format) add their own seeds
   OUT_DIR:    gets fuzz_config/, fuzz_log_reader/ and fuzz_estimators/ seed folders
 """
 import glob
@@ -57,7 +58,29 @@ def small_pcd(path, points):
     return ("\n".join(lines) + "\n").encode() + data[end:end + 22 * points]
 
 
-def log_seeds(log, out):
+def zstd_raw_frame(content):
+    """One zstd frame holding `content` as a single raw (stored) block: single segment, 4-byte
+    content size, no checksum (RFC 8878, section 3.1.1)."""
+    block_header = 1 | (len(content) << 3)  # last block, type raw
+    return (struct.pack("<IBI", 0xFD2FB528, 0xA0, len(content)) +
+            struct.pack("<I", block_header)[:3] + content)
+
+
+def small_sweep(points):
+    """A sweep file (docs/log-format.md) of `points` points whose field planes are a fixed byte
+    pattern: any planes decode to some points, so the seed reaches the whole reader."""
+    sizes = [4, 2, 4, 4, 4, 4]  # t ring x y z intensity
+    frames = [zstd_raw_frame(bytes((7 * i + f) % 251 for i in range(size * points)))
+              for f, size in enumerate(sizes)]
+    header = b"SBSWEEP\0" + struct.pack("<II", 1, points)
+    return header + struct.pack("<6I", *[len(f) for f in frames]) + b"".join(frames)
+
+
+def small_sweep_file(path, points):
+    return small_sweep(points) if path.endswith(".sweep") else small_pcd(path, points)
+
+
+def log_seeds(log, out, prefix=""):
     files = [("log.yaml", open(os.path.join(log, "log.yaml"), "rb").read()),
              ("setup.yaml", open(os.path.join(log, "setup.yaml"), "rb").read()),
              ("truth.csv", head(os.path.join(log, "truth.csv"), 4))]
@@ -66,16 +89,16 @@ def log_seeds(log, out):
         files.append((rel, head(csv, 4)))
         folder = csv[:-4]
         if os.path.isdir(folder):  # a lidar: its first sweeps, 8 points each
-            for pcd in sorted(os.listdir(folder))[:3]:
-                files.append((os.path.relpath(os.path.join(folder, pcd), log),
-                              small_pcd(os.path.join(folder, pcd), 8)))
+            for sweep in sorted(os.listdir(folder))[:3]:
+                files.append((os.path.relpath(os.path.join(folder, sweep), log),
+                              small_sweep_file(os.path.join(folder, sweep), 8)))
     whole = b"".join(b"== " + name.encode() + b"\n" + content for name, content in files)
-    write(os.path.join(out, "fuzz_log_reader", "whole_log"), whole)
+    write(os.path.join(out, "fuzz_log_reader", prefix + "whole_log"), whole)
     # One seed per file beside the manifest, so mutations reach every parser early.
     manifest = files[0]
     for i, (name, content) in enumerate(files[1:]):
         part = b"== %s\n%s== %s\n%s" % (manifest[0].encode(), manifest[1], name.encode(), content)
-        write(os.path.join(out, "fuzz_log_reader", "part_%02d" % i), part)
+        write(os.path.join(out, "fuzz_log_reader", prefix + "part_%02d" % i), part)
 
 
 def estimator_seeds(out):
@@ -114,6 +137,8 @@ def main():
     src, log, out = sys.argv[1:4]
     config_seeds(src, out)
     log_seeds(log, out)
+    for i, more in enumerate(sys.argv[4:]):
+        log_seeds(more, out, "log%d_" % (i + 2))
     estimator_seeds(out)
 
 

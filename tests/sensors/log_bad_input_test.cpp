@@ -18,9 +18,12 @@ struct BadLog {
   testing::TempLogDir dir;
   std::vector<Measurement> written;
 
-  explicit BadLog(const std::string& name) : dir(name) {
+  explicit BadLog(const std::string& name, LidarFileFormat lidar = LidarFileFormat::kSweep)
+      : dir(name) {
     written = testing::SyntheticStream(2.0, 5, 50);
-    LogWriter writer(dir.path(), {});
+    LogWriterOptions options;
+    options.lidar_format = lidar;
+    LogWriter writer(dir.path(), options);
     for (const Measurement& m : written) writer.Write(m);
     writer.Close();
   }
@@ -125,7 +128,7 @@ TEST(LogBadInput, TimestampGoingBackwards) {
 }
 
 TEST(LogBadInput, TruncatedPcdNamesThePcdAndItsIndexLine) {
-  BadLog log("truncated_pcd");
+  BadLog log("truncated_pcd", LidarFileFormat::kPcd);
   const std::filesystem::path pcd = log.dir.path() / "lidar/lidar/400000000.pcd";  // 5th sweep
   // Cut inside the point data: the header and 10 of the 50 points stay. (PCL's writer leaves
   // zero padding after the data, so cutting the file's last bytes would lose nothing.)
@@ -139,9 +142,21 @@ TEST(LogBadInput, TruncatedPcdNamesThePcdAndItsIndexLine) {
   ExpectSameStream(read, log.PrefixThrough("lidar", 4));
 }
 
+TEST(LogBadInput, TruncatedSweepFileNamesTheFileTheFieldAndItsIndexLine) {
+  BadLog log("truncated_sweep");
+  const std::filesystem::path sweep = log.dir.path() / "lidar/lidar/400000000.sweep";  // 5th
+  std::filesystem::resize_file(sweep, std::filesystem::file_size(sweep) - 7);
+  const auto [read, error] = ReadAll(log.dir.path());
+  EXPECT_NE(error.find("lidar/lidar/400000000.sweep: field 'intensity': truncated"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("lidar/lidar.csv:6"), std::string::npos) << error;
+  ExpectSameStream(read, log.PrefixThrough("lidar", 4));
+}
+
 TEST(LogBadInput, MissingPcdAndPointCountMismatch) {
   {
-    BadLog log("missing_pcd");
+    BadLog log("missing_pcd", LidarFileFormat::kPcd);
     std::filesystem::remove(log.dir.path() / "lidar/lidar/0.pcd");
     const auto [read, error] = ReadAll(log.dir.path());
     EXPECT_NE(error.find("lidar/lidar/0.pcd: no such file"), std::string::npos) << error;

@@ -30,10 +30,12 @@ std::vector<Measurement> ReadAll(LogReader& reader) {
   return out;
 }
 
-TEST(LogRoundTrip, ReadsBackTheWrittenStreamBitForBit) {
-  testing::TempLogDir dir("round_trip");
+void ExpectReadsBackBitForBit(LidarFileFormat lidar_format) {
+  testing::TempLogDir dir("round_trip_" + std::string(LidarFileFormatName(lidar_format)));
   const std::vector<Measurement> written = testing::SyntheticStream(3.0, 11);
-  WriteLog(dir.path(), written);
+  LogWriterOptions options;
+  options.lidar_format = lidar_format;
+  WriteLog(dir.path(), written, options);
 
   LogReader reader(dir.path());
   const std::vector<Measurement> read = ReadAll(reader);
@@ -48,6 +50,14 @@ TEST(LogRoundTrip, ReadsBackTheWrittenStreamBitForBit) {
   }
   EXPECT_EQ(types.size(), std::variant_size_v<Measurement>);  // every type went through
   EXPECT_EQ(points, 30u * 300u);                              // 31 sweeps, one of them empty
+}
+
+TEST(LogRoundTrip, ReadsBackTheWrittenStreamBitForBit) {
+  ExpectReadsBackBitForBit(LidarFileFormat::kSweep);
+}
+
+TEST(LogRoundTrip, ReadsBackTheWrittenStreamBitForBitWithPcdSweeps) {
+  ExpectReadsBackBitForBit(LidarFileFormat::kPcd);
 }
 
 TEST(LogRoundTrip, WritesManifestSetupTruthAndEuRocImu) {
@@ -91,8 +101,8 @@ TEST(LogRoundTrip, WritesManifestSetupTruthAndEuRocImu) {
   EXPECT_EQ(by_id.at("gnss_heading").type, LogStreamType::kDualAntennaHeading);
   EXPECT_EQ(by_id.at("lidar").file, "lidar/lidar.csv");
   EXPECT_EQ(by_id.at("lidar").count, 11u);
-  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/0.pcd"));
-  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/100000000.pcd"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/0.sweep"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/100000000.sweep"));
 
   // The IMU file is EuRoC's imu0/data.csv plus the arrival column.
   std::ifstream imu(dir.path() / "imu/imu.csv");
