@@ -35,7 +35,7 @@ struct LogWriterOptions {
   std::optional<GeodeticPoint> origin;
   std::string setup_yaml;               // copied to setup.yaml when not empty
   std::optional<SE3> truth_T_body_imu;  // when set, WriteTruth writes the truth files
-  LidarFileFormat lidar_format = LidarFileFormat::kSweep;  // the files of the lidar sweeps
+  LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // the files of the lidar sweeps
 };
 
 struct LogStreamStats {

@@ -101,8 +101,8 @@ TEST(LogRoundTrip, WritesManifestSetupTruthAndEuRocImu) {
   EXPECT_EQ(by_id.at("gnss_heading").type, LogStreamType::kDualAntennaHeading);
   EXPECT_EQ(by_id.at("lidar").file, "lidar/lidar.csv");
   EXPECT_EQ(by_id.at("lidar").count, 11u);
-  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/0.sweep"));
-  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/100000000.sweep"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/0.pcd"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "lidar/lidar/100000000.pcd"));
 
   // The IMU file is EuRoC's imu0/data.csv plus the arrival column.
   std::ifstream imu(dir.path() / "imu/imu.csv");
