@@ -53,5 +53,7 @@ endif()
 # statebench_ros1_sources(<source>...): sources that include ROS1 message headers compile as
 # C++17 (the flag comes after the target's -std=c++20, so it wins with GCC and Clang).
 function(statebench_ros1_sources)
-  set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "-std=c++17")
+  # Compiled on their own, outside any unity batch of the C++20 sources.
+  set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "-std=c++17"
+                                                 SKIP_UNITY_BUILD_INCLUSION ON)
 endfunction()

@@ -24,6 +24,27 @@ void AppendNumber(std::string& out, double value) {
   out.append(buf, res.ptr);
 }
 
+std::string NumberText(double value) {
+  std::string out;
+  AppendNumber(out, value);
+  return out;
+}
+
+std::string YamlQuoted(std::string_view s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
 void AppendNumber(std::string& out, std::int64_t value) {
   char buf[24];
   const auto res = std::to_chars(buf, buf + sizeof(buf), value);

@@ -16,6 +16,10 @@ namespace statebench {
 // Appends a double in shortest round-trip form ("nan"/"inf" are never written by StateBench).
 void AppendNumber(std::string& out, double value);
 void AppendNumber(std::string& out, std::int64_t value);
+// The same, as a string.
+std::string NumberText(double value);
+// A YAML double-quoted scalar (", \ and newlines escaped).
+std::string YamlQuoted(std::string_view s);
 
 // One parsed CSV data line with its origin, for error messages. Views only: the file name,
 // header and cells must outlive it.

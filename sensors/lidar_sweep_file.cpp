@@ -21,12 +21,12 @@ constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kHeaderBytes = 16 + 4 * kSweepFieldCount;
 constexpr int kCompressionLevel = 3;  // zstd's default: 0.18 of a binary PCD, ~5 ms per sweep
 
-[[noreturn]] void Fail(const fs::path& file, const std::string& what) {
+[[noreturn]] void FailSweepFile(const fs::path& file, const std::string& what) {
   throw InputError(file.string() + ": " + what);
 }
 
 [[noreturn]] void FailField(const fs::path& file, std::size_t f, const std::string& what) {
-  Fail(file, "field '" + std::string(SweepFieldName(static_cast<SweepField>(f))) + "': " + what);
+  FailSweepFile(file, "field '" + std::string(SweepFieldName(static_cast<SweepField>(f))) + "': " + what);
 }
 
 void Put32(std::uint8_t* out, std::uint32_t v) {
@@ -61,13 +61,13 @@ struct DecompressionContext {
 // The whole file into `bytes` (one read).
 void ReadFile(const fs::path& file, std::vector<std::uint8_t>& bytes) {
   std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) Fail(file, "cannot open");
+  if (!in) FailSweepFile(file, "cannot open");
   const std::streamoff size = in.tellg();
-  if (size < 0) Fail(file, "cannot read its size");
+  if (size < 0) FailSweepFile(file, "cannot read its size");
   bytes.resize(static_cast<std::size_t>(size));
   in.seekg(0);
   in.read(reinterpret_cast<char*>(bytes.data()), size);
-  if (in.gcount() != size) Fail(file, "cannot read its " + std::to_string(size) + " bytes");
+  if (in.gcount() != size) FailSweepFile(file, "cannot read its " + std::to_string(size) + " bytes");
 }
 
 // Decompresses field f's frame, bytes [begin, begin + size) of the file, into its planes.
@@ -104,7 +104,7 @@ void DecompressField(const fs::path& file, std::size_t f, const std::uint8_t* fr
 
 void WriteLidarSweepFile(const fs::path& file, const std::vector<LidarPoint>& points) {
   if (points.size() > kMaxSweepFilePoints) {
-    Fail(file, std::to_string(points.size()) + " points, a sweep file holds at most " +
+    FailSweepFile(file, std::to_string(points.size()) + " points, a sweep file holds at most " +
                    std::to_string(kMaxSweepFilePoints));
   }
   thread_local CompressionContext z;
@@ -126,7 +126,7 @@ void WriteLidarSweepFile(const fs::path& file, const std::vector<LidarPoint>& po
   }
   std::ofstream stream(file, std::ios::binary | std::ios::trunc);
   stream.write(reinterpret_cast<const char*>(out), static_cast<std::streamsize>(at));
-  if (!stream) Fail(file, "cannot write");
+  if (!stream) FailSweepFile(file, "cannot write");
 }
 
 std::vector<LidarPoint> ReadLidarSweepFile(const fs::path& file) {
@@ -136,21 +136,21 @@ std::vector<LidarPoint> ReadLidarSweepFile(const fs::path& file) {
   const std::size_t size = z.bytes.size();
   if (size < kHeaderBytes) {
     if (size >= sizeof(kMagic) && std::memcmp(in, kMagic, sizeof(kMagic)) != 0) {
-      Fail(file, "not a StateBench sweep file (its first bytes are not \"SBSWEEP\")");
+      FailSweepFile(file, "not a StateBench sweep file (its first bytes are not \"SBSWEEP\")");
     }
-    Fail(file, "truncated: " + std::to_string(size) + " bytes, a sweep file's header takes " +
+    FailSweepFile(file, "truncated: " + std::to_string(size) + " bytes, a sweep file's header takes " +
                    std::to_string(kHeaderBytes));
   }
   if (std::memcmp(in, kMagic, sizeof(kMagic)) != 0) {
-    Fail(file, "not a StateBench sweep file (its first bytes are not \"SBSWEEP\")");
+    FailSweepFile(file, "not a StateBench sweep file (its first bytes are not \"SBSWEEP\")");
   }
   if (const std::uint32_t version = Get32(in + 8); version != kVersion) {
-    Fail(file, "sweep file version " + std::to_string(version) + ", this reader knows " +
+    FailSweepFile(file, "sweep file version " + std::to_string(version) + ", this reader knows " +
                    std::to_string(kVersion));
   }
   const std::uint32_t points = Get32(in + 12);
   if (points > kMaxSweepFilePoints) {
-    Fail(file, "announces " + std::to_string(points) + " points, at most " +
+    FailSweepFile(file, "announces " + std::to_string(points) + " points, at most " +
                    std::to_string(kMaxSweepFilePoints));
   }
   std::size_t at = kHeaderBytes;
@@ -165,7 +165,7 @@ std::vector<LidarPoint> ReadLidarSweepFile(const fs::path& file) {
     at += frame;
   }
   if (at != size) {
-    Fail(file, std::to_string(size - at) + " bytes after its last field (a sweep file ends with "
+    FailSweepFile(file, std::to_string(size - at) + " bytes after its last field (a sweep file ends with "
                                             "the intensity frame)");
   }
   std::vector<LidarPoint> out;

@@ -10,28 +10,6 @@
 namespace statebench::sensors {
 namespace {
 
-// A YAML double-quoted scalar.
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (c == '\n') {
-      out += "\\n";
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string Number(double v) {
-  std::string out;
-  AppendNumber(out, v);
-  return out;
-}
-
 // A relative path that stays inside the log directory.
 std::string RelativeFile(const YamlNode& node) {
   const std::string file = node.As<std::string>();
@@ -48,19 +26,19 @@ std::string RelativeFile(const YamlNode& node) {
 void WriteLogManifest(const std::filesystem::path& file, const LogManifest& m) {
   std::string y = "# StateBench recorded log (docs/log-format.md)\n";
   y += "format: statebench-log\nversion: " + std::to_string(m.version) + "\n";
-  y += "scenario: " + Quoted(m.scenario) + "\n";
+  y += "scenario: " + YamlQuoted(m.scenario) + "\n";
   if (m.seed) y += "seed: " + std::to_string(*m.seed) + "\n";
   if (m.origin) {
-    y += "origin: {latitude_deg: " + Number(m.origin->latitude_deg) +
-         ", longitude_deg: " + Number(m.origin->longitude_deg) +
-         ", altitude_m: " + Number(m.origin->altitude_m) + "}\n";
+    y += "origin: {latitude_deg: " + NumberText(m.origin->latitude_deg) +
+         ", longitude_deg: " + NumberText(m.origin->longitude_deg) +
+         ", altitude_m: " + NumberText(m.origin->altitude_m) + "}\n";
   }
-  if (m.setup) y += "setup: " + Quoted(*m.setup) + "\n";
-  if (m.truth_csv) y += "truth: " + Quoted(*m.truth_csv) + "\n";
+  if (m.setup) y += "setup: " + YamlQuoted(*m.setup) + "\n";
+  if (m.truth_csv) y += "truth: " + YamlQuoted(*m.truth_csv) + "\n";
   y += "streams:\n";
   for (const LogStreamEntry& s : m.streams) {
-    y += "  - {id: " + Quoted(s.id) + ", type: " + std::string(LogStreamTypeName(s.type)) +
-         ", file: " + Quoted(s.file) + ", count: " + std::to_string(s.count) + "}\n";
+    y += "  - {id: " + YamlQuoted(s.id) + ", type: " + std::string(LogStreamTypeName(s.type)) +
+         ", file: " + YamlQuoted(s.file) + ", count: " + std::to_string(s.count) + "}\n";
   }
   std::ofstream out(file, std::ios::binary);
   out << y;

@@ -49,14 +49,14 @@ std::vector<std::string_view> KindKeys(RosTopicKind kind) {
   }
 }
 
-constexpr std::array<std::string_view, 6> kCommonKeys = {
+constexpr std::array<std::string_view, 6> kCommonTopicKeys = {
     "topic", "id", "type", "frame_id", "T_body_sensor", "latency_s"};
 
 void CheckKeys(const YamlNode& entry, RosTopicKind kind) {
   const std::vector<std::string_view> own = KindKeys(kind);
   for (const std::string& key : entry.Keys()) {
     bool known = false;
-    for (std::string_view k : kCommonKeys) known = known || k == key;
+    for (std::string_view k : kCommonTopicKeys) known = known || k == key;
     for (std::string_view k : own) known = known || k == key;
     if (known) continue;
     bool other_kind = false;
@@ -153,21 +153,6 @@ RosStaticTransform ParseStaticTransform(const YamlNode& entry) {
   return s;
 }
 
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-std::string Number(double v) {
-  std::string out;
-  AppendNumber(out, v);
-  return out;
-}
-
 std::string Numbers(const double* v, int n) {
   std::string out = "[";
   for (int i = 0; i < n; ++i) {
@@ -243,39 +228,39 @@ RosTopicMap ParseRosTopicMap(const YamlNode& root) {
 
 std::string RosTopicMapYaml(const RosTopicMap& map, const std::string& header_comment) {
   std::string y = header_comment;
-  y += "base_frame: " + Quoted(map.base_frame) + "\n";
-  if (!map.scenario.empty()) y += "scenario: " + Quoted(map.scenario) + "\n";
+  y += "base_frame: " + YamlQuoted(map.base_frame) + "\n";
+  if (!map.scenario.empty()) y += "scenario: " + YamlQuoted(map.scenario) + "\n";
   if (map.origin) {
-    y += "origin: {latitude_deg: " + Number(map.origin->latitude_deg) +
-         ", longitude_deg: " + Number(map.origin->longitude_deg) +
-         ", altitude_m: " + Number(map.origin->altitude_m) + "}\n";
+    y += "origin: {latitude_deg: " + NumberText(map.origin->latitude_deg) +
+         ", longitude_deg: " + NumberText(map.origin->longitude_deg) +
+         ", altitude_m: " + NumberText(map.origin->altitude_m) + "}\n";
   }
   y += "topics:\n";
   for (const RosTopicEntry& t : map.topics) {
-    y += "  - topic: " + Quoted(t.topic) + "\n";
-    y += "    id: " + Quoted(t.id) + "\n";
+    y += "  - topic: " + YamlQuoted(t.topic) + "\n";
+    y += "    id: " + YamlQuoted(t.id) + "\n";
     y += "    type: " + std::string(RosTopicKindName(t.kind)) + "\n";
-    if (t.frame_id) y += "    frame_id: " + Quoted(*t.frame_id) + "\n";
+    if (t.frame_id) y += "    frame_id: " + YamlQuoted(*t.frame_id) + "\n";
     if (t.T_body_sensor) y += "    T_body_sensor: " + TransformYaml(*t.T_body_sensor) + "\n";
-    if (t.latency_s) y += "    latency_s: " + Number(*t.latency_s) + "\n";
+    if (t.latency_s) y += "    latency_s: " + NumberText(*t.latency_s) + "\n";
     if (t.position_sigma_m) {
       y += "    position_sigma_m: " + Numbers(t.position_sigma_m->data(), 3) + "\n";
     }
     if (t.twist_sigma) y += "    twist_sigma: " + Numbers(t.twist_sigma->data(), 6) + "\n";
     if (t.kind == RosTopicKind::kSteeringEncoder && t.joint != t.id) {
-      y += "    joint: " + Quoted(t.joint) + "\n";
+      y += "    joint: " + YamlQuoted(t.joint) + "\n";
     }
     if (t.kind == RosTopicKind::kWheelEncoders) {
-      y += "    joints: [" + Quoted(t.joints[0]) + ", " + Quoted(t.joints[1]) + ", " +
-           Quoted(t.joints[2]) + ", " + Quoted(t.joints[3]) + "]\n";
+      y += "    joints: [" + YamlQuoted(t.joints[0]) + ", " + YamlQuoted(t.joints[1]) + ", " +
+           YamlQuoted(t.joints[2]) + ", " + YamlQuoted(t.joints[3]) + "]\n";
     }
-    if (t.time_field) y += "    time_field: " + Quoted(*t.time_field) + "\n";
-    if (t.time_scale_s) y += "    time_scale_s: " + Number(*t.time_scale_s) + "\n";
+    if (t.time_field) y += "    time_field: " + YamlQuoted(*t.time_field) + "\n";
+    if (t.time_scale_s) y += "    time_scale_s: " + NumberText(*t.time_scale_s) + "\n";
   }
   if (!map.static_transforms.empty()) {
     y += "static_transforms:\n";
     for (const RosStaticTransform& s : map.static_transforms) {
-      y += "  - {parent: " + Quoted(s.parent) + ", child: " + Quoted(s.child) +
+      y += "  - {parent: " + YamlQuoted(s.parent) + ", child: " + YamlQuoted(s.child) +
            ", T_parent_child: " + TransformYaml(s.T_parent_child) + "}\n";
     }
   }

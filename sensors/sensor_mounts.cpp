@@ -5,25 +5,6 @@
 #include "core/yaml_node.hpp"
 
 namespace statebench::sensors {
-namespace {
-
-std::string Number(double v) {
-  std::string out;
-  AppendNumber(out, v);
-  return out;
-}
-
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
-}  // namespace
-
 std::vector<SensorMount> ReadSensorMounts(const std::filesystem::path& setup_file) {
   const YamlNode root = YamlNode::LoadFile(setup_file);
   root.ExpectMap();
@@ -46,20 +27,20 @@ std::vector<SensorMount> ReadSensorMounts(const std::filesystem::path& setup_fil
 std::string SensorMountsYaml(const std::string& name, const std::vector<SensorMount>& mounts,
                              const std::string& header_comment) {
   std::string y = header_comment;
-  y += "name: " + Quoted(name) + "\nsensors:" + (mounts.empty() ? " []\n" : "\n");
+  y += "name: " + YamlQuoted(name) + "\nsensors:" + (mounts.empty() ? " []\n" : "\n");
   for (const SensorMount& m : mounts) {
     if (!m.comment.empty()) y += "  # " + m.comment + "\n";
-    y += "  - type: " + m.type + "\n    id: " + Quoted(m.id) + "\n";
+    y += "  - type: " + m.type + "\n    id: " + YamlQuoted(m.id) + "\n";
     const Vec3& t = m.T_body_sensor.translation();
-    y += "    T_body_sensor: {translation: [" + Number(t.x()) + ", " + Number(t.y()) + ", " +
-         Number(t.z()) + "]";
+    y += "    T_body_sensor: {translation: [" + NumberText(t.x()) + ", " + NumberText(t.y()) + ", " +
+         NumberText(t.z()) + "]";
     const Quat& q = m.T_body_sensor.rotation();
     if (q.w() != 1.0 || q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0) {
-      y += ", quaternion_wxyz: [" + Number(q.w()) + ", " + Number(q.x()) + ", " + Number(q.y()) +
-           ", " + Number(q.z()) + "]";
+      y += ", quaternion_wxyz: [" + NumberText(q.w()) + ", " + NumberText(q.x()) + ", " + NumberText(q.y()) +
+           ", " + NumberText(q.z()) + "]";
     }
     y += "}\n";
-    if (m.latency_s) y += "    latency_s: " + Number(*m.latency_s) + "\n";
+    if (m.latency_s) y += "    latency_s: " + NumberText(*m.latency_s) + "\n";
   }
   return y;
 }

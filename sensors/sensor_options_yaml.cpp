@@ -11,19 +11,19 @@ namespace statebench::sensors {
 namespace {
 
 // Keys every entry has (sensor_setup.cpp reads them).
-constexpr std::array<std::string_view, 5> kCommonKeys = {"type", "id", "rate_hz", "T_body_sensor",
+constexpr std::array<std::string_view, 5> kCommonSensorKeys = {"type", "id", "rate_hz", "T_body_sensor",
                                                          "latency_s"};
 
 // Throws on a key that is neither common nor one of the type's own keys (catches typos).
 void ExpectEntryKeys(const YamlNode& entry, std::initializer_list<std::string_view> own) {
   for (const std::string& key : entry.Keys()) {
     const auto matches = [&key](std::string_view k) { return k == key; };
-    if (std::any_of(kCommonKeys.begin(), kCommonKeys.end(), matches) ||
+    if (std::any_of(kCommonSensorKeys.begin(), kCommonSensorKeys.end(), matches) ||
         std::any_of(own.begin(), own.end(), matches)) {
       continue;
     }
     std::string list;
-    for (const auto k : kCommonKeys) list += std::string(k) + ", ";
+    for (const auto k : kCommonSensorKeys) list += std::string(k) + ", ";
     for (const auto k : own) list += std::string(k) + ", ";
     list.resize(list.size() - 2);
     entry[key].Fail("unknown field (expected one of: " + list + ")");

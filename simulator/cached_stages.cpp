@@ -17,12 +17,6 @@ constexpr const char* kTruthStage = "sumo";
 constexpr const char* kResultFile = "sumo_result.bin";
 constexpr const char* kNetFile = "net.net.xml";
 
-std::string Number(double v) {
-  std::string text;
-  AppendNumber(text, v);  // shortest round-trip form: equal text, equal bits
-  return text;
-}
-
 }  // namespace
 
 std::optional<std::string> TruthStageKey(const Scenario& scenario, const SumoRunOptions& options,
@@ -42,12 +36,12 @@ std::optional<std::string> TruthStageKey(const Scenario& scenario, const SumoRun
     if (xml.traffic_lights) key.File(*xml.traffic_lights);
   }
   key.File(scenario.vehicle_file);
-  key.Field(std::to_string(scenario.seed)).Field(Number(scenario.duration_s));
-  key.Field(Number(scenario.origin.latitude_deg))
-      .Field(Number(scenario.origin.longitude_deg))
-      .Field(Number(scenario.origin.altitude_m));
-  key.Field(Number(options.lookahead_m))
-      .Field(Number(options.max_tail_s))
+  key.Field(std::to_string(scenario.seed)).Field(NumberText(scenario.duration_s));
+  key.Field(NumberText(scenario.origin.latitude_deg))
+      .Field(NumberText(scenario.origin.longitude_deg))
+      .Field(NumberText(scenario.origin.altitude_m));
+  key.Field(NumberText(options.lookahead_m))
+      .Field(NumberText(options.max_tail_s))
       .Field(options.record_traffic ? "traffic" : "no traffic");
   return key.Hex();
 }
@@ -74,7 +68,7 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
       key.Field("mismatch v1");
       for (const double v : {m.imu_spread, m.gnss_covariance_scale_min, m.gnss_covariance_scale_max,
                              m.mount_translation_sigma_m, m.mount_rotation_sigma_deg}) {
-        key.Field(Number(v));
+        key.Field(NumberText(v));
       }
     }
     keys[c.spec.id] = key.Hex();
@@ -102,7 +96,7 @@ std::optional<std::string> EstimatorInputsKey(const Scenario& scenario,
                            m.mount_translation_sigma_m, m.mount_rotation_sigma_deg,
                            m.clock_offset_sigma_s, m.vehicle_mass_spread,
                            m.vehicle_cornering_stiffness_spread}) {
-      key.Field(Number(v));
+      key.Field(NumberText(v));
     }
   }
   return key.Hex();

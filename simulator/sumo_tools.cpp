@@ -28,7 +28,7 @@ fs::path FindExecutable(const std::vector<fs::path>& dirs, const std::string& na
   return {};
 }
 
-std::vector<fs::path> SplitPath(const std::string& search_path) {
+std::vector<fs::path> SplitSearchPath(const std::string& search_path) {
   std::vector<fs::path> dirs;
   std::stringstream ss(search_path);
   std::string dir;
@@ -81,13 +81,13 @@ std::string SumoHome() {
 
 SumoTools SumoTools::Find() {
   const char* path = std::getenv("PATH");
-  std::vector<fs::path> dirs = SplitPath(path != nullptr ? path : "");
+  std::vector<fs::path> dirs = SplitSearchPath(path != nullptr ? path : "");
   dirs.push_back(fs::path(SumoHome()) / "bin");
   return FindInDirs(dirs);
 }
 
 SumoTools SumoTools::FindIn(const std::string& search_path) {
-  return FindInDirs(SplitPath(search_path));
+  return FindInDirs(SplitSearchPath(search_path));
 }
 
 ToolRun RunTool(const fs::path& tool, const std::vector<std::string>& args,
