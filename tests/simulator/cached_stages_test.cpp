@@ -86,5 +86,35 @@ TEST_F(CachedStagesTest, KeysFollowWhatTheStageDependsOn) {
   for (const auto& [id, k] : keys) EXPECT_NE(reseeded.at(id), k) << id;
 }
 
+// The key of everything the estimators are fed (the shared lidar odometry's cache entries hang
+// on it): it follows the build, the seeds, the faults and the mismatch, and not the estimators.
+TEST_F(CachedStagesTest, EstimatorInputsKeyFollowsTheStreamsNotTheEstimators) {
+  const Scenario scenario =
+      LoadScenario(sim::testing::SourceDir() / "scenarios/paper/setup3_shuttle.yaml");
+  ASSERT_TRUE(scenario.faults.has_value());
+  ASSERT_TRUE(scenario.mismatch.has_value());
+  const ScenarioSensors sensors = LoadScenarioSensors(scenario);
+  const auto key = [&](const Scenario& s, std::uint64_t sensor_seed, const std::string& build) {
+    return *EstimatorInputsKey(s, sensors, {}, sensor_seed, build);
+  };
+  const std::string base = key(scenario, scenario.seed, "build a");
+  EXPECT_EQ(key(scenario, scenario.seed, "build a"), base);
+  Scenario no_estimators = scenario;
+  no_estimators.estimators.clear();
+  EXPECT_EQ(key(no_estimators, scenario.seed, "build a"), base);
+
+  EXPECT_NE(key(scenario, scenario.seed, "build b"), base);
+  EXPECT_NE(key(scenario, scenario.seed + 1, "build a"), base);
+  Scenario no_faults = scenario;
+  no_faults.faults.reset();
+  EXPECT_NE(key(no_faults, scenario.seed, "build a"), base);
+  Scenario other_clocks = scenario;
+  other_clocks.mismatch->clock_offset_sigma_s += 0.001;
+  EXPECT_NE(key(other_clocks, scenario.seed, "build a"), base);
+  Scenario longer = scenario;
+  longer.duration_s += 1.0;
+  EXPECT_NE(key(longer, scenario.seed, "build a"), base);
+}
+
 }  // namespace
 }  // namespace statebench::sim
