@@ -59,6 +59,10 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
     return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kDisabled);
   }
   last_speed_ = {v.header.stamp_ns, v.speed_mps};
+  recent_speeds_.push_back(*last_speed_);
+  while (recent_speeds_.front().first < v.header.stamp_ns - FromSeconds(1.0)) {
+    recent_speeds_.pop_front();
+  }
   if (!ctx_.initialized && ctx_.initializer.local().enabled) {
     // The velocity of the rear axle's centre, (V, 0, 0) in its frame: lateral and vertical are
     // not measured (the initialiser takes them as zero, loosely).
@@ -132,6 +136,15 @@ void EncoderFrontEnd::OnMarginalized(std::span<const NavState> left) {
   if (!encoder_scale_ || !kinematic_) return;
   encoder_scale_->AddSmoothedStates(std::vector<NavState>(left.begin(), left.end()));
   if (const auto scale = encoder_scale_->scale()) kinematic_->set_speed_scale(*scale);
+}
+
+bool EncoderFrontEnd::ReadsZeroSince(TimeNs from_ns, double max_mps) const {
+  if (recent_speeds_.empty() || recent_speeds_.front().first > from_ns) return false;
+  for (auto it = recent_speeds_.rbegin(); it != recent_speeds_.rend(); ++it) {
+    if (std::abs(it->second) > max_mps) return false;
+    if (it->first <= from_ns) return true;
+  }
+  return true;
 }
 
 }  // namespace statebench::est

@@ -5,6 +5,7 @@
 // the standstill test of the motion constraints.
 #pragma once
 
+#include <deque>
 #include <optional>
 #include <utility>
 
@@ -23,6 +24,10 @@ class EncoderFrontEnd final : public MeasurementFrontEnd {
 
   // The newest speed sample (stamp, m/s), if any.
   const std::optional<std::pair<TimeNs, double>>& last_speed() const { return last_speed_; }
+  // Every speed sample from from_ns to the newest reads at most max_mps (and there is one at
+  // from_ns or before, so the span is covered). A creeping car's encoder reads zero between
+  // its ticks: one zero sample is not a standstill, a window without a tick is.
+  bool ReadsZeroSince(TimeNs from_ns, double max_mps) const;
   bool has_speed_encoder() const { return plan_.speed != nullptr; }
   // A kinematic factor ends less than 0.5 s before t_ns.
   bool KinematicActive(TimeNs t_ns) const;
@@ -45,6 +50,7 @@ class EncoderFrontEnd final : public MeasurementFrontEnd {
   std::optional<EncoderScaleCalibration> encoder_scale_;
   TimeNs last_kinematic_ns_ = INT64_MIN;  // t2 of the newest kinematic factor
   std::optional<std::pair<TimeNs, double>> last_speed_;
+  std::deque<std::pair<TimeNs, double>> recent_speeds_;  // the last second
 };
 
 }  // namespace statebench::est

@@ -203,7 +203,8 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
       .Number("window_s", &Z::window_s, p, "IMU window of the standstill test")
       .Number("max_gyro_std_radps", &Z::max_gyro_std_radps, p, "quiet gyro, per axis")
       .Number("max_accel_std_mps2", &Z::max_accel_std_mps2, p, "quiet accelerometer, per axis")
-      .Number("max_encoder_speed_mps", &Z::max_encoder_speed_mps, p, "encoder reads zero")
+      .Number("max_encoder_speed_mps", &Z::max_encoder_speed_mps, p,
+              "the speed encoder reads below this over the whole window")
       .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
               "without an encoder: estimated speed below")
       .Number("max_acceleration_mps2", &Z::max_acceleration_mps2, p,

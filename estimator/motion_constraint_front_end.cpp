@@ -55,8 +55,8 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   }
 }
 
-// The IMU is quiet over the window and the speed encoder reads zero (or, without one, the
-// estimated speed is low).
+// The IMU is quiet over the window and the speed encoder reads zero over it (or, without one,
+// the estimated speed is low).
 bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3 ||
@@ -67,9 +67,10 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   if (!window.Quiet(z)) return false;
   const Vec3& mean_a = window.mean_accel;
   if (encoders_.has_speed_encoder()) {
+    // Zero over the whole window: between two ticks of a creeping wheel the encoder reads zero.
     const auto& last = encoders_.last_speed();
     return last && t_ns - last->first < FromSeconds(0.5) &&
-           std::abs(last->second) <= z.max_encoder_speed_mps;
+           encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
   }
   const auto predicted = ctx_.PredictAt(t_ns);
   if (!predicted || predicted->state.v_world.norm() >= z.max_estimated_speed_mps) return false;

@@ -147,6 +147,35 @@ TEST(FrontEnds, BeforeTheFirstStateMeasurementsFeedTheInitialiserOrAreCounted) {
   EXPECT_EQ(Rejected(f.ctx, "steering", RejectReason::kDisabled), 1u);
 }
 
+// A creeping wheel (0.04 m/s, a tick of 1.66 mm every 41 ms) reads zero in most 20 ms samples:
+// the encoder reads zero over a window only when no tick fell in it.
+TEST(FrontEnds, TheSpeedEncoderReadsZeroOverAWindowOnlyWithoutATick) {
+  Fixture f;
+  EncoderFrontEnd encoders(f.setup, f.plan, f.options, f.ctx);
+  constexpr double kTickM = 0.00166;
+  double distance = 0.0;
+  int ticks = 0;
+  int zero_samples = 0;
+  for (int k = 0; k < 50; ++k) {  // 1 s at 50 Hz, creeping
+    VehicleSpeed v = At<VehicleSpeed>("speed", FromSeconds(1.0 + 0.02 * k));
+    distance += 0.04 * 0.02;
+    const int now = static_cast<int>(distance / kTickM);
+    v.speed_mps = (now - ticks) * kTickM / 0.02;
+    ticks = now;
+    zero_samples += v.speed_mps == 0.0;
+    encoders.Process(v);
+  }
+  EXPECT_GE(zero_samples, 20);  // one sample alone would often say "still"
+  EXPECT_FALSE(encoders.ReadsZeroSince(FromSeconds(1.98 - 0.3), 0.005));
+  for (int k = 0; k < 20; ++k) {  // then 0.4 s standing
+    encoders.Process(At<VehicleSpeed>("speed", FromSeconds(2.0 + 0.02 * k)));
+  }
+  const TimeNs still = FromSeconds(2.38);
+  EXPECT_TRUE(encoders.ReadsZeroSince(still - FromSeconds(0.3), 0.005));
+  EXPECT_FALSE(encoders.ReadsZeroSince(still - FromSeconds(0.5), 0.005));  // the creep's ticks
+  EXPECT_FALSE(encoders.ReadsZeroSince(FromSeconds(0.5), 0.005));          // before any sample
+}
+
 TEST(FrontEnds, GnssFixesAboveTheCovarianceThresholdAreDiscarded) {
   Fixture f;
   f.options.origin = GeodeticPoint{48.7, 2.2, 120.0};
