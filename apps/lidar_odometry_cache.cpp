@@ -25,15 +25,9 @@ std::optional<std::vector<est::RecordedRegistration>> CachedRegistrationStore::L
 
 void CachedRegistrationStore::Save(const std::string& key,
                                    const std::vector<est::RecordedRegistration>& registrations) {
-  const std::string entry_key = EntryKey(key);
-  const std::filesystem::path written = cache_.Begin(kStage, entry_key);
-  try {
+  cache_.Write(kStage, EntryKey(key), [&](const std::filesystem::path& written) {
     est::WriteRegistrations(written / kFile, registrations);
-    cache_.Publish(kStage, entry_key, written);
-  } catch (...) {
-    cache_.Abandon(written);
-    throw;
-  }
+  });
 }
 
 }  // namespace statebench::app

@@ -71,6 +71,18 @@ fs::path StageCache::Publish(const std::string& stage, const std::string& key,
   return entry;
 }
 
+fs::path StageCache::Write(const std::string& stage, const std::string& key,
+                          const std::function<void(const fs::path&)>& write) const {
+  const fs::path written = Begin(stage, key);
+  try {
+    write(written);
+    return Publish(stage, key, written);
+  } catch (...) {
+    Abandon(written);
+    throw;
+  }
+}
+
 void StageCache::Abandon(const fs::path& written) const {
   std::error_code ec;
   fs::remove_all(written, ec);

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -43,6 +44,9 @@ class StageCache {
                                 const std::filesystem::path& written) const;
   // Drops a folder from Begin() (the stage did not complete).
   void Abandon(const std::filesystem::path& written) const;
+  // Begin, write(folder), Publish; Abandon and rethrow if write throws. Returns the entry.
+  std::filesystem::path Write(const std::string& stage, const std::string& key,
+                              const std::function<void(const std::filesystem::path&)>& write) const;
 
   // An exclusive lock on (stage, key) across processes, released when the object is destroyed.
   class KeyLock {

@@ -58,8 +58,7 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
   if (plan_.speed == nullptr || id != plan_.speed->id) {
     return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kDisabled);
   }
-  last_speed_ = {v.header.stamp_ns, v.speed_mps};
-  recent_speeds_.push_back(*last_speed_);
+  recent_speeds_.emplace_back(v.header.stamp_ns, v.speed_mps);
   while (recent_speeds_.front().first < v.header.stamp_ns - FromSeconds(1.0)) {
     recent_speeds_.pop_front();
   }
@@ -109,14 +108,15 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
 // (w - b_g) x p_imu_axle, and v_world = R v_imu. Its world-frame covariance follows the
 // orientation's: dv = -R [v_imu]x dtheta (right perturbation) plus the encoder's own error.
 void EncoderFrontEnd::RefineInitialState(const ImuSample& s, InitialState* init) const {
-  if (plan_.speed == nullptr || !last_speed_ ||
-      std::abs(ToSeconds(s.header.stamp_ns - last_speed_->first)) > 0.1) {
+  const std::optional<std::pair<TimeNs, double>> last_speed = this->last_speed();
+  if (plan_.speed == nullptr || !last_speed ||
+      std::abs(ToSeconds(s.header.stamp_ns - last_speed->first)) > 0.1) {
     return;
   }
   constexpr double kEncoderSigmaMps = 0.1;  // before the radius is calibrated, and slip
   const NavState& x = init->state;
   const Vec3 omega = s.gyro - x.gyro_bias;
-  const Vec3 v_imu = plan_.T_imu_axle.rotation() * Vec3(last_speed_->second, 0.0, 0.0) -
+  const Vec3 v_imu = plan_.T_imu_axle.rotation() * Vec3(last_speed->second, 0.0, 0.0) -
                      omega.cross(plan_.T_imu_axle.translation());
   const Mat3 R = x.q_world_imu.toRotationMatrix();
   const Mat3 J = -R * so3::Hat<double>(v_imu);

@@ -23,7 +23,10 @@ class EncoderFrontEnd final : public MeasurementFrontEnd {
                   const FactorGraphOptions& options, FrontEndContext& ctx);
 
   // The newest speed sample (stamp, m/s), if any.
-  const std::optional<std::pair<TimeNs, double>>& last_speed() const { return last_speed_; }
+  std::optional<std::pair<TimeNs, double>> last_speed() const {
+    if (recent_speeds_.empty()) return std::nullopt;
+    return recent_speeds_.back();
+  }
   // Every speed sample from from_ns to the newest reads at most max_mps (and there is one at
   // from_ns or before, so the span is covered). A creeping car's encoder reads zero between
   // its ticks: one zero sample is not a standstill, a window without a tick is.
@@ -49,8 +52,7 @@ class EncoderFrontEnd final : public MeasurementFrontEnd {
   std::optional<KinematicOdometry> kinematic_;
   std::optional<EncoderScaleCalibration> encoder_scale_;
   TimeNs last_kinematic_ns_ = INT64_MIN;  // t2 of the newest kinematic factor
-  std::optional<std::pair<TimeNs, double>> last_speed_;
-  std::deque<std::pair<TimeNs, double>> recent_speeds_;  // the last second
+  std::deque<std::pair<TimeNs, double>> recent_speeds_;  // (stamp, m/s) of the last second
 };
 
 }  // namespace statebench::est

@@ -162,10 +162,9 @@ std::optional<SE3> LidarFrontEnd::PredictedMotion(TimeNs from_ns, TimeNs to_ns) 
          (SE3(to->q_world_imu, to->p_world) * X);
 }
 
-// The odometry's result for the scan and the estimator's prediction of the same motion (for the
-// gate): from this estimator's IMU prior, or from the shared odometry.
+// The odometry's result for the scan and, for the gate, the estimator's prediction of the same
+// motion when it holds both ends: from this estimator's IMU prior, or beside the shared odometry.
 LidarOdometryResult LidarFrontEnd::Registration(const LidarScan& scan, TimeNs sweep_end_ns,
-                                                std::optional<SE3>* T_w_prev,
                                                 std::optional<SE3>* T_prev_curr_imu) {
   const TimeNs t = scan.header.stamp_ns;
   if (shared_) {
@@ -175,12 +174,12 @@ LidarOdometryResult LidarFrontEnd::Registration(const LidarScan& scan, TimeNs sw
     }();
     if (r.accepted && !r.first_scan && ctx_.initialized) {
       *T_prev_curr_imu = PredictedMotion(r.prev_stamp_ns, t);
-      if (*T_prev_curr_imu) *T_w_prev = SE3::Identity();  // (only its presence is read)
     }
     return r;
   }
-  const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, T_w_prev);
-  if (prior) *T_prev_curr_imu = prior->T_prev_curr;
+  std::optional<SE3> T_w_prev;
+  const std::optional<LidarMotionPrior> prior = MotionPrior(t, sweep_end_ns, &T_w_prev);
+  if (prior && T_w_prev) *T_prev_curr_imu = prior->T_prev_curr;
   const StageScope stage(Stage::kLidarOdometry);
   return odometry_->RegisterScan(scan, prior);
 }
@@ -189,9 +188,8 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   const EstimatorSensor& lidar = *plan_.lidars.front();
   const std::string& id = lidar.id;
   const TimeNs t = scan.header.stamp_ns;
-  std::optional<SE3> T_w_prev;
   std::optional<SE3> T_prev_curr_imu;
-  const LidarOdometryResult r = Registration(scan, sweep_end_ns, &T_w_prev, &T_prev_curr_imu);
+  const LidarOdometryResult r = Registration(scan, sweep_end_ns, &T_prev_curr_imu);
   const bool merged = merger_.has_value();  // the input scans were counted already
   if (!ctx_.initialized) {  // a shared odometry's scan before the first state: no factor
     if (r.accepted) ctx_.Count(id, "registered_before_initialization");
@@ -206,13 +204,14 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   if (r.diagnostics.degenerate) ctx_.Count(id, "degenerate");
   // The first scan of the estimator's window (a shared odometry's previous scan may precede
   // the first state or a restart): it anchors the next factor.
-  const bool anchor = r.first_scan || (shared_ && (!last_scan_ns_ || r.prev_stamp_ns < restart_ns_));
+  const bool anchor =
+      r.first_scan || (shared_ && (!last_scan_ns_ || r.prev_stamp_ns < restart_ns_));
   last_scan_ns_ = t;
   if (anchor) {
     ctx_.Count(id, "registered");
     return merged ? void() : ctx_.Accept(id, t);
   }
-  if (T_prev_curr_imu && T_w_prev) {
+  if (T_prev_curr_imu) {
     const SE3 deviation = T_prev_curr_imu->Inverse() * r.T_prev_curr;
     if (deviation.translation().norm() > options_.lidar.max_prior_deviation_m) {
       ctx_.Count(id, "deviates_from_imu_prior");

@@ -45,7 +45,6 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
                                               std::optional<SE3>* T_world_prev) const;
   void RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns);
   LidarOdometryResult Registration(const LidarScan& scan, TimeNs sweep_end_ns,
-                                   std::optional<SE3>* T_w_prev,
                                    std::optional<SE3>* T_prev_curr_imu);
   // The lidar's motion between two stamps predicted by the estimator (nullopt if not held).
   std::optional<SE3> PredictedMotion(TimeNs from_ns, TimeNs to_ns) const;

@@ -68,7 +68,7 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   const Vec3& mean_a = window.mean_accel;
   if (encoders_.has_speed_encoder()) {
     // Zero over the whole window: between two ticks of a creeping wheel the encoder reads zero.
-    const auto& last = encoders_.last_speed();
+    const auto last = encoders_.last_speed();
     return last && t_ns - last->first < FromSeconds(0.5) &&
            encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
   }

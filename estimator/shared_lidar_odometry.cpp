@@ -106,7 +106,7 @@ LidarOdometryResult SharedLidarOdometry::Register(const LidarScan& scan, TimeNs 
   if (it != recent_.end()) {
     return NotRegistered(scan, "not registered (the shared odometry is past this scan)");
   }
-  Entry e{t, points, Compute(scan, sweep_end_ns, gyro)};
+  Entry e{t, points, Compute(scan, points, sweep_end_ns, gyro)};
   ++registered_;
   if (computed != nullptr) *computed = true;
   if (keep_all_) all_.push_back({t, points, e.result});
@@ -120,11 +120,12 @@ void SharedLidarOdometry::Replay(std::vector<RecordedRegistration> recorded) {
   replay_next_ = 0;
 }
 
-LidarOdometryResult SharedLidarOdometry::Compute(const LidarScan& scan, TimeNs sweep_end_ns,
-                                                 const GyroTrack* gyro) {
+LidarOdometryResult SharedLidarOdometry::Compute(const LidarScan& scan, std::size_t points,
+                                                 TimeNs sweep_end_ns, const GyroTrack* gyro) {
   if (replay_) {
-    if (replay_next_ >= replay_->size() || (*replay_)[replay_next_].stamp_ns != scan.header.stamp_ns ||
-        (*replay_)[replay_next_].points != (scan.points ? scan.points->size() : 0)) {
+    if (replay_next_ >= replay_->size() ||
+        (*replay_)[replay_next_].stamp_ns != scan.header.stamp_ns ||
+        (*replay_)[replay_next_].points != points) {
       throw InputError("the recorded lidar registrations do not match the scans (scan at " +
                        std::to_string(ToSeconds(scan.header.stamp_ns)) + " s)");
     }

@@ -85,7 +85,8 @@ class SharedLidarOdometry {
   std::optional<LidarMotionPrior> GyroPrior(TimeNs t_ns, TimeNs sweep_end_ns,
                                             const GyroTrack& gyro) const;
 
-  LidarOdometryResult Compute(const LidarScan& scan, TimeNs sweep_end_ns, const GyroTrack* gyro);
+  LidarOdometryResult Compute(const LidarScan& scan, std::size_t points, TimeNs sweep_end_ns,
+                              const GyroTrack* gyro);
 
   LidarOdometry odometry_;
   std::optional<Quat> q_imu_lidar_;

@@ -1,9 +1,10 @@
-// TriangleBvh::CastPacket: up to four rays walk the tree together. Each node is loaded and
-// decided once for the packet: every active ray tests the node's four boxes (the single-ray
-// test, same floats), a child is walked with the rays that met it, nearest first by the
-// smallest entry among them, and the others are pushed with each ray's entry. Leaves intersect
-// each of their rays exactly, as Cast does. A ray is dropped from a subtree only when it misses
-// the subtree's box or enters it beyond the ray's own best hit, so each ray gets Cast's range.
+// TriangleBvh::CastPacket: up to kPacketSize (25) rays walk the tree together. Each node is
+// loaded and decided once for the packet: every active ray tests the node's four boxes (the
+// single-ray test, same floats), a child is walked with the rays that met it, nearest first by
+// the smallest entry among them, and the others are pushed with each ray's entry. Leaves
+// intersect each of their rays exactly, as Cast does. A ray is dropped from a subtree only when
+// it misses the subtree's box or enters it beyond the ray's own best hit, so each ray gets
+// Cast's range.
 #include <array>
 #include <bit>
 #include <cassert>

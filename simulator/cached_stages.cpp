@@ -119,15 +119,10 @@ SumoResult SimulateSumoCached(const Scenario& scenario, const EgoVehicleType& eg
     return ReadSumoResult(*entry / kResultFile);
   }
   SumoResult result = SimulateSumo(scenario, ego_type, sumo_dir, options);
-  const fs::path written = cache.Begin(kTruthStage, *key);
-  try {
+  cache.Write(kTruthStage, *key, [&](const fs::path& written) {
     WriteSumoResult(result, written / kResultFile);
     fs::copy_file(sumo_dir / kNetFile, written / kNetFile);
-    cache.Publish(kTruthStage, *key, written);
-  } catch (...) {
-    cache.Abandon(written);
-    throw;
-  }
+  });
   return result;
 }
 
