@@ -241,6 +241,23 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Integer("max_iterations", &F::max_iterations, 1, "Ceres iterations per solve")
       .Integer("num_threads", &F::num_threads, 1, "Ceres threads")
       .Custom(
+          "solver",
+          [](const YamlNode& n, F* o) {
+            const std::string s = n.As<std::string>();
+            if (s == "ceres") {
+              o->solver = WindowSolver::kCeres;
+            } else if (s == "chain") {
+              o->solver = WindowSolver::kChain;
+            } else {
+              n.Fail("unknown solver '" + s + "' (expected ceres or chain)");
+            }
+          },
+          [](const F& o) {
+            return std::string(o.solver == WindowSolver::kCeres ? "ceres" : "chain");
+          },
+          "ceres, chain",
+          "ceres::Solve, or the same Levenberg-Marquardt on the window's chain structure")
+      .Custom(
           "origin",
           [](const YamlNode& n, F* o) {
             n.ExpectMap();

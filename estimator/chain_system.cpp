@@ -1,0 +1,216 @@
+#include "estimator/chain_system.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace statebench::est {
+namespace {
+
+using Mat30 = Eigen::Matrix<double, 30, 30>;
+using Vec30 = Eigen::Matrix<double, 30, 1>;
+using ChainJacobian = Eigen::Matrix<double, Eigen::Dynamic, 30, Eigen::RowMajor>;
+using ChainAmbient = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+constexpr std::array<int, 4> kChainTangentOffset{0, 3, 6, 9};
+constexpr std::array<int, 4> kChainTangentSize{3, 3, 3, 6};
+
+// Where a factor's block sits in the 30-dim tangent of (anchor, next); -1 if in neither.
+int ChainSlot(const ChainState& anchor, const ChainState* next, const double* block) {
+  for (int i = 0; i < 4; ++i) {
+    if (anchor.blocks[i] == block) return i;
+    if (next != nullptr && next->blocks[i] == block) return 4 + i;
+  }
+  return -1;
+}
+
+// Ceres' robust-loss correction (ceres/internal/corrector.cc): r and J rescaled so that
+// J^T J and J^T r are the loss' first-order (and, for rho'' > 0, second-order) model.
+struct ChainCorrector {
+  double sqrt_rho1 = 1.0;
+  double residual_scaling = 1.0;
+  double alpha_sq_norm = 0.0;
+
+  ChainCorrector(double sq_norm, const double rho[3]) {
+    sqrt_rho1 = std::sqrt(rho[1]);
+    if (sq_norm == 0.0 || rho[2] <= 0.0) {
+      residual_scaling = sqrt_rho1;
+      return;
+    }
+    const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * sq_norm * rho[2] / rho[1]);
+    residual_scaling = sqrt_rho1 / (1.0 - alpha);
+    alpha_sq_norm = alpha / sq_norm;
+  }
+};
+
+// Scratch reused from factor to factor (one allocation per linearisation, not per factor).
+struct ChainScratch {
+  Eigen::VectorXd r;
+  std::vector<ChainAmbient> ambient;
+  std::vector<double*> ambient_ptrs;
+  ChainJacobian J;
+};
+
+// Adds one factor's J^T J and J^T r to the pair system (anchor, next); its cost to *cost.
+bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const ChainState* next,
+                    const ceres::Manifold& rotation, ChainScratch& s, Mat30& H, Vec30& g,
+                    double* cost) {
+  const int m = f.cost->num_residuals();
+  const auto& sizes = f.cost->parameter_block_sizes();
+  s.r.resize(m);
+  if (s.ambient.size() < sizes.size()) s.ambient.resize(sizes.size());
+  s.ambient_ptrs.resize(sizes.size());
+  for (std::size_t b = 0; b < sizes.size(); ++b) {
+    s.ambient[b].resize(m, sizes[b]);
+    s.ambient_ptrs[b] = s.ambient[b].data();
+  }
+  if (!f.cost->Evaluate(f.blocks.data(), s.r.data(), s.ambient_ptrs.data())) return false;
+
+  s.J.setZero(m, 30);
+  int lo = 30, hi = 0;
+  for (std::size_t b = 0; b < sizes.size(); ++b) {
+    const int slot = ChainSlot(anchor, next, f.blocks[b]);
+    if (slot < 0) return false;
+    const int offset = kChainTangentOffset[slot % 4] + 15 * (slot / 4);
+    const int size = kChainTangentSize[slot % 4];
+    if (slot % 4 == 0) {
+      Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
+      rotation.PlusJacobian(f.blocks[b], plus.data());
+      s.J.middleCols(offset, 3) += s.ambient[b] * plus;
+    } else {
+      s.J.middleCols(offset, size) += s.ambient[b];
+    }
+    lo = std::min(lo, offset);
+    hi = std::max(hi, offset + size);
+  }
+  const double sq_norm = s.r.squaredNorm();
+  if (f.loss == nullptr) {
+    *cost += 0.5 * sq_norm;
+  } else {
+    double rho[3];
+    f.loss->Evaluate(sq_norm, rho);
+    *cost += 0.5 * rho[0];
+    const ChainCorrector c(sq_norm, rho);
+    if (c.alpha_sq_norm != 0.0) {
+      const Eigen::RowVectorXd rtJ = s.r.transpose() * s.J;
+      s.J -= c.alpha_sq_norm * s.r * rtJ;
+    }
+    s.J *= c.sqrt_rho1;
+    s.r *= c.residual_scaling;
+  }
+  const int w = hi - lo;
+  const auto Jw = s.J.middleCols(lo, w);
+  H.block(lo, lo, w, w).noalias() += Jw.transpose().lazyProduct(Jw);
+  g.segment(lo, w).noalias() += Jw.transpose() * s.r;
+  return true;
+}
+
+// S^-1 * rhs for a block being eliminated, as SchurComplement inverts H_mm.
+template <int Cols>
+Eigen::Matrix<double, 15, Cols> ChainEliminate(const Mat15& S_in,
+                                               const Eigen::Matrix<double, 15, Cols>& rhs) {
+  const Mat15 S = 0.5 * (S_in + S_in.transpose());
+  const Eigen::LLT<Mat15> llt(S);
+  if (llt.info() == Eigen::Success &&
+      Mat15(llt.matrixL()).diagonal().array().square().minCoeff() >
+          1e-10 * S.diagonal().maxCoeff()) {
+    return llt.solve(rhs);
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat15> eig(S);
+  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
+  const Vec15 inv_values =
+      eig.eigenvalues().unaryExpr([&](double l) { return l > threshold ? 1.0 / l : 0.0; });
+  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose() * rhs;
+}
+
+}  // namespace
+
+bool ChainCost(const std::vector<ChainState>& chain, double* cost) {
+  double total = 0.0;
+  Eigen::VectorXd r;
+  for (const ChainState& state : chain) {
+    for (const FactorRecord* f : state.factors) {
+      r.resize(f->cost->num_residuals());
+      if (!f->cost->Evaluate(f->blocks.data(), r.data(), nullptr)) return false;
+      const double sq_norm = r.squaredNorm();
+      if (f->loss == nullptr) {
+        total += 0.5 * sq_norm;
+      } else {
+        double rho[3];
+        f->loss->Evaluate(sq_norm, rho);
+        total += 0.5 * rho[0];
+      }
+    }
+  }
+  *cost = total;
+  return true;
+}
+
+bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold& rotation,
+                    ChainSystem* system) {
+  const std::size_t n = chain.size();
+  system->D.assign(n, Mat15::Zero());
+  system->B.assign(n > 0 ? n - 1 : 0, Mat15::Zero());
+  system->g.assign(n, Vec15::Zero());
+  system->cost = 0.0;
+  ChainScratch scratch;
+  for (std::size_t k = 0; k < n; ++k) {
+    const ChainState* next = k + 1 < n ? &chain[k + 1] : nullptr;
+    Mat30 H = Mat30::Zero();
+    Vec30 g = Vec30::Zero();
+    for (const FactorRecord* f : chain[k].factors) {
+      if (!AddChainFactor(*f, chain[k], next, rotation, scratch, H, g, &system->cost)) {
+        return false;
+      }
+    }
+    system->D[k] += H.topLeftCorner<15, 15>();
+    system->g[k] += g.head<15>();
+    if (next != nullptr) {
+      system->B[k] += H.topRightCorner<15, 15>();
+      system->D[k + 1] += H.bottomRightCorner<15, 15>();
+      system->g[k + 1] += g.tail<15>();
+    }
+  }
+  return true;
+}
+
+bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
+                std::vector<Vec15>* dx) {
+  // Forward: S_k = D_k + diag(damping_k) - B_{k-1}^T S_{k-1}^-1 B_{k-1}, y likewise; keep
+  // W_k = S_k^-1 B_k and z_k = S_k^-1 y_k. Backward: dx_k = z_k - W_k dx_{k+1}.
+  const std::size_t n = system.D.size();
+  std::vector<Mat15> W(n);
+  std::vector<Vec15> z(n);
+  Mat15 carried = Mat15::Zero();
+  Vec15 carried_y = Vec15::Zero();
+  for (std::size_t k = 0; k < n; ++k) {
+    Mat15 S = system.D[k] - carried;
+    S.diagonal() += damping[k];
+    const Eigen::LLT<Mat15> llt(S);
+    if (llt.info() != Eigen::Success) return false;
+    z[k] = llt.solve(Vec15(-system.g[k] - carried_y));
+    if (k + 1 < n) {
+      W[k] = llt.solve(system.B[k]);
+      carried = system.B[k].transpose() * W[k];
+      carried_y = system.B[k].transpose() * z[k];
+    }
+  }
+  dx->resize(n);
+  for (std::size_t k = n; k-- > 0;) {
+    (*dx)[k] = k + 1 < n ? Vec15(z[k] - W[k] * (*dx)[k + 1]) : z[k];
+  }
+  return true;
+}
+
+Mat15 NewestMarginalInformation(const ChainSystem& system) {
+  Mat15 S = system.D.front();
+  for (std::size_t k = 0; k + 1 < system.D.size(); ++k) {
+    const Mat15 X = ChainEliminate<15>(S, system.B[k]);
+    S = system.D[k + 1] - system.B[k].transpose() * X;
+    S = 0.5 * (S + S.transpose());
+  }
+  return S;
+}
+
+}  // namespace statebench::est
