@@ -77,7 +77,7 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     if (slot % 4 == 0) {
       Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
       rotation.PlusJacobian(f.blocks[b], plus.data());
-      s.J.middleCols(offset, 3) += s.ambient[b] * plus;
+      s.J.middleCols(offset, 3) += s.ambient[b].lazyProduct(plus);
     } else {
       s.J.middleCols(offset, size) += s.ambient[b];
     }
@@ -192,7 +192,7 @@ bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
     z[k] = llt.solve(Vec15(-system.g[k] - carried_y));
     if (k + 1 < n) {
       W[k] = llt.solve(system.B[k]);
-      carried = system.B[k].transpose() * W[k];
+      carried = system.B[k].transpose().lazyProduct(W[k]);
       carried_y = system.B[k].transpose() * z[k];
     }
   }
@@ -207,7 +207,7 @@ Mat15 NewestMarginalInformation(const ChainSystem& system) {
   Mat15 S = system.D.front();
   for (std::size_t k = 0; k + 1 < system.D.size(); ++k) {
     const Mat15 X = ChainEliminate<15>(S, system.B[k]);
-    S = system.D[k + 1] - system.B[k].transpose() * X;
+    S = system.D[k + 1] - system.B[k].transpose().lazyProduct(X);
     S = 0.5 * (S + S.transpose());
   }
   return S;
