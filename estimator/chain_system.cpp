@@ -10,7 +10,7 @@ namespace {
 
 using Mat30 = Eigen::Matrix<double, 30, 30>;
 using Vec30 = Eigen::Matrix<double, 30, 1>;
-using ChainJacobian = Eigen::Matrix<double, Eigen::Dynamic, 30, Eigen::RowMajor>;
+using ChainJacobian = Eigen::Matrix<double, Eigen::Dynamic, 30>;  // columns contiguous
 using ChainAmbient = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 constexpr std::array<int, 4> kChainTangentOffset{0, 3, 6, 9};
@@ -52,7 +52,8 @@ struct ChainScratch {
   ChainJacobian J;
 };
 
-// Adds one factor's J^T J and J^T r to the pair system (anchor, next); its cost to *cost.
+// Adds one factor's J^T J (lower triangle) and J^T r to the pair system (anchor, next); its cost
+// to *cost.
 bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const ChainState* next,
                     const ceres::Manifold& rotation, ChainScratch& s, Mat30& H, Vec30& g,
                     double* cost) {
@@ -99,10 +100,11 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     s.J *= c.sqrt_rho1;
     s.r *= c.residual_scaling;
   }
-  const int w = hi - lo;
-  const auto Jw = s.J.middleCols(lo, w);
-  H.block(lo, lo, w, w).noalias() += Jw.transpose().lazyProduct(Jw);
-  g.segment(lo, w).noalias() += Jw.transpose() * s.r;
+  // Column dot products over the columns the factor touches (contiguous, vectorised).
+  for (int j = lo; j < hi; ++j) {
+    for (int i = j; i < hi; ++i) H(i, j) += s.J.col(i).dot(s.J.col(j));
+    g(j) += s.J.col(j).dot(s.r);
+  }
   return true;
 }
 
@@ -164,6 +166,7 @@ bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold&
         return false;
       }
     }
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
     system->D[k] += H.topLeftCorner<15, 15>();
     system->g[k] += g.head<15>();
     if (next != nullptr) {
@@ -177,28 +180,31 @@ bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold&
 
 bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
                 std::vector<Vec15>* dx) {
-  // Forward: S_k = D_k + diag(damping_k) - B_{k-1}^T S_{k-1}^-1 B_{k-1}, y likewise; keep
-  // W_k = S_k^-1 B_k and z_k = S_k^-1 y_k. Backward: dx_k = z_k - W_k dx_{k+1}.
+  // Forward, with S_k = L_k L_k^T = D_k + diag(damping_k) - V_{k-1}^T V_{k-1}:
+  //   V_k = L_k^-1 B_k,  u_k = L_k^-1 (-g_k - V_{k-1}^T u_{k-1})
+  // Backward: dx_k = L_k^-T (u_k - V_k dx_{k+1}).
   const std::size_t n = system.D.size();
-  std::vector<Mat15> W(n);
-  std::vector<Vec15> z(n);
-  Mat15 carried = Mat15::Zero();
-  Vec15 carried_y = Vec15::Zero();
+  std::vector<Eigen::LLT<Mat15>> L(n);
+  std::vector<Mat15> V(n);
+  std::vector<Vec15> u(n);
   for (std::size_t k = 0; k < n; ++k) {
-    Mat15 S = system.D[k] - carried;
-    S.diagonal() += damping[k];
-    const Eigen::LLT<Mat15> llt(S);
-    if (llt.info() != Eigen::Success) return false;
-    z[k] = llt.solve(Vec15(-system.g[k] - carried_y));
-    if (k + 1 < n) {
-      W[k] = llt.solve(system.B[k]);
-      carried = system.B[k].transpose().lazyProduct(W[k]);
-      carried_y = system.B[k].transpose() * z[k];
+    Mat15 S = system.D[k];
+    Vec15 y = -system.g[k];
+    if (k > 0) {
+      S.noalias() -= V[k - 1].transpose().lazyProduct(V[k - 1]);
+      y.noalias() -= V[k - 1].transpose() * u[k - 1];
     }
+    S.diagonal() += damping[k];
+    L[k].compute(S);
+    if (L[k].info() != Eigen::Success) return false;
+    u[k] = L[k].matrixL().solve(y);
+    if (k + 1 < n) V[k] = L[k].matrixL().solve(system.B[k]);
   }
   dx->resize(n);
   for (std::size_t k = n; k-- > 0;) {
-    (*dx)[k] = k + 1 < n ? Vec15(z[k] - W[k] * (*dx)[k + 1]) : z[k];
+    Vec15 w = u[k];
+    if (k + 1 < n) w.noalias() -= V[k] * (*dx)[k + 1];
+    (*dx)[k] = L[k].matrixU().solve(w);
   }
   return true;
 }
