@@ -44,13 +44,14 @@ struct ChainCorrector {
   }
 };
 
-// Scratch reused from factor to factor (one allocation per linearisation, not per factor).
+// Scratch reused from factor to factor: buffers grow to the largest factor and stay, so a
+// linearisation allocates a few times, not per factor.
 struct ChainScratch {
-  Eigen::VectorXd r;
-  std::vector<ChainAmbient> ambient;
+  std::vector<double> r_buffer, ambient_buffer, J_buffer;
   std::vector<double*> ambient_ptrs;
-  ChainJacobian J;
 };
+
+using ChainAmbientMap = Eigen::Map<const ChainAmbient>;
 
 // Adds one factor's J^T J (lower triangle) and J^T r to the pair system (anchor, next); its cost
 // to *cost.
@@ -59,33 +60,40 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
                     double* cost) {
   const int m = f.cost->num_residuals();
   const auto& sizes = f.cost->parameter_block_sizes();
-  s.r.resize(m);
-  if (s.ambient.size() < sizes.size()) s.ambient.resize(sizes.size());
-  s.ambient_ptrs.resize(sizes.size());
-  for (std::size_t b = 0; b < sizes.size(); ++b) {
-    s.ambient[b].resize(m, sizes[b]);
-    s.ambient_ptrs[b] = s.ambient[b].data();
+  int ambient_total = 0;
+  for (int32_t size : sizes) ambient_total += size;
+  if (s.r_buffer.size() < static_cast<std::size_t>(m)) s.r_buffer.resize(m);
+  if (s.ambient_buffer.size() < static_cast<std::size_t>(m * ambient_total)) {
+    s.ambient_buffer.resize(m * ambient_total);
   }
-  if (!f.cost->Evaluate(f.blocks.data(), s.r.data(), s.ambient_ptrs.data())) return false;
+  if (s.J_buffer.size() < static_cast<std::size_t>(m * 30)) s.J_buffer.resize(m * 30);
+  s.ambient_ptrs.resize(sizes.size());
+  for (std::size_t b = 0, at = 0; b < sizes.size(); at += m * sizes[b], ++b) {
+    s.ambient_ptrs[b] = s.ambient_buffer.data() + at;
+  }
+  Eigen::Map<Eigen::VectorXd> r(s.r_buffer.data(), m);
+  if (!f.cost->Evaluate(f.blocks.data(), r.data(), s.ambient_ptrs.data())) return false;
 
-  s.J.setZero(m, 30);
+  Eigen::Map<ChainJacobian> J(s.J_buffer.data(), m, 30);
+  J.setZero();
   int lo = 30, hi = 0;
   for (std::size_t b = 0; b < sizes.size(); ++b) {
     const int slot = ChainSlot(anchor, next, f.blocks[b]);
     if (slot < 0) return false;
     const int offset = kChainTangentOffset[slot % 4] + 15 * (slot / 4);
     const int size = kChainTangentSize[slot % 4];
+    const ChainAmbientMap ambient(s.ambient_ptrs[b], m, sizes[b]);
     if (slot % 4 == 0) {
       Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
       rotation.PlusJacobian(f.blocks[b], plus.data());
-      s.J.middleCols(offset, 3) += s.ambient[b].lazyProduct(plus);
+      J.middleCols(offset, 3) += ambient.lazyProduct(plus);
     } else {
-      s.J.middleCols(offset, size) += s.ambient[b];
+      J.middleCols(offset, size) += ambient;
     }
     lo = std::min(lo, offset);
     hi = std::max(hi, offset + size);
   }
-  const double sq_norm = s.r.squaredNorm();
+  const double sq_norm = r.squaredNorm();
   if (f.loss == nullptr) {
     *cost += 0.5 * sq_norm;
   } else {
@@ -94,16 +102,16 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     *cost += 0.5 * rho[0];
     const ChainCorrector c(sq_norm, rho);
     if (c.alpha_sq_norm != 0.0) {
-      const Eigen::RowVectorXd rtJ = s.r.transpose() * s.J;
-      s.J -= c.alpha_sq_norm * s.r * rtJ;
+      const Eigen::RowVectorXd rtJ = r.transpose() * J;
+      J -= c.alpha_sq_norm * r * rtJ;
     }
-    s.J *= c.sqrt_rho1;
-    s.r *= c.residual_scaling;
+    J *= c.sqrt_rho1;
+    r *= c.residual_scaling;
   }
   // Column dot products over the columns the factor touches (contiguous, vectorised).
   for (int j = lo; j < hi; ++j) {
-    for (int i = j; i < hi; ++i) H(i, j) += s.J.col(i).dot(s.J.col(j));
-    g(j) += s.J.col(j).dot(s.r);
+    for (int i = j; i < hi; ++i) H(i, j) += J.col(i).dot(J.col(j));
+    g(j) += J.col(j).dot(r);
   }
   return true;
 }
@@ -130,12 +138,13 @@ Eigen::Matrix<double, 15, Cols> ChainEliminate(const Mat15& S_in,
 
 bool ChainCost(const std::vector<ChainState>& chain, double* cost) {
   double total = 0.0;
-  Eigen::VectorXd r;
+  std::vector<double> buffer;
   for (const ChainState& state : chain) {
     for (const FactorRecord* f : state.factors) {
-      r.resize(f->cost->num_residuals());
-      if (!f->cost->Evaluate(f->blocks.data(), r.data(), nullptr)) return false;
-      const double sq_norm = r.squaredNorm();
+      const int m = f->cost->num_residuals();
+      if (buffer.size() < static_cast<std::size_t>(m)) buffer.resize(m);
+      if (!f->cost->Evaluate(f->blocks.data(), buffer.data(), nullptr)) return false;
+      const double sq_norm = Eigen::Map<const Eigen::VectorXd>(buffer.data(), m).squaredNorm();
       if (f->loss == nullptr) {
         total += 0.5 * sq_norm;
       } else {
