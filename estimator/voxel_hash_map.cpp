@@ -15,7 +15,8 @@ VoxelKey VoxelHashMap::VoxelOf(const Vec3& p) const {
   // Clamped into the int range (a far or non-finite point lands in an edge voxel; the cast of an
   // out-of-range double is undefined).
   const Vec3 s = (p / options_.voxel_size_m).cwiseMax(-1e9).cwiseMin(1e9);
-  return {FloorToInt(s.x()), FloorToInt(s.y()), FloorToInt(s.z())};
+  return {static_cast<int>(std::floor(s.x())), static_cast<int>(std::floor(s.y())),
+          static_cast<int>(std::floor(s.z()))};
 }
 
 void VoxelHashMap::AddPoints(const std::vector<Vec3>& points_world) {

@@ -29,7 +29,7 @@ struct VoxelKey {
 // toward zero is one step too high exactly for negative non-integers.
 inline int FloorToInt(double s) {
   const int truncated = static_cast<int>(s);
-  return s < truncated ? truncated - 1 : truncated;
+  return truncated - static_cast<int>(s < truncated);  // no branch: the sign is data
 }
 
 class VoxelIndexTable {
