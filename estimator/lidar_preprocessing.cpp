@@ -1,5 +1,6 @@
 #include "estimator/lidar_preprocessing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -17,15 +18,26 @@ SweepMotion StaticSweepMotion() {
 }
 
 SweepMotion TabulatedSweepMotion(std::vector<std::pair<double, SE3>> table) {
-  return [table = std::move(table)](double ts) {
-    if (ts <= table.front().first) return table.front().second;
-    for (std::size_t k = 1; k < table.size(); ++k) {
-      if (ts <= table[k].first) {
-        const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
-        return SE3::Interpolate(table[k - 1].second, table[k].second, a);
-      }
-    }
-    return table.back().second;
+  // SE3::Interpolate(T0, T1, a) = T0 Exp(a Log(T0^-1 T1)): the segments' logarithms are taken
+  // once here instead of at every point time (the same expression, so the same bits), and the
+  // segment is found by bisection (the first k with t <= t_k, as a forward scan finds it).
+  std::vector<double> times;
+  std::vector<Vec6> segment_logs;  // [k]: Log(T_{k-1}^-1 T_k), k >= 1
+  times.reserve(table.size());
+  segment_logs.reserve(table.size());
+  for (std::size_t k = 0; k < table.size(); ++k) {
+    times.push_back(table[k].first);
+    segment_logs.push_back(k == 0 ? Vec6::Zero()
+                                  : Vec6((table[k - 1].second.Inverse() * table[k].second).Log()));
+  }
+  return [table = std::move(table), times = std::move(times),
+          segment_logs = std::move(segment_logs)](double ts) {
+    if (ts <= times.front()) return table.front().second;
+    if (!(ts <= times.back())) return table.back().second;  // NaN too, as the scan did
+    const auto k = static_cast<std::size_t>(
+        std::lower_bound(times.begin() + 1, times.end(), ts) - times.begin());
+    const double a = (ts - times[k - 1]) / (times[k] - times[k - 1]);
+    return table[k - 1].second * SE3::Exp(a * segment_logs[k]);
   };
 }
 
@@ -89,8 +101,7 @@ std::vector<Vec3> VoxelDownsample(const std::vector<Vec3>& points, double voxel_
     // Farther than any int voxel index (garbage deskewed by a garbage pose; found by
     // fuzz_estimators): dropped, the cast would be undefined.
     if (!(s.cwiseAbs().maxCoeff() < 1e9)) continue;
-    const VoxelKey key{static_cast<int>(std::floor(s.x())), static_cast<int>(std::floor(s.y())),
-                       static_cast<int>(std::floor(s.z()))};
+    const VoxelKey key{FloorToInt(s.x()), FloorToInt(s.y()), FloorToInt(s.z())};
     const auto next = static_cast<std::uint32_t>(out.size());
     if (occupied.Insert(key, next) == next) out.push_back(p);
   }

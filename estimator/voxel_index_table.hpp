@@ -24,6 +24,14 @@ struct VoxelKey {
   bool operator==(const VoxelKey&) const = default;
 };
 
+// static_cast<int>(std::floor(s)) for finite |s| < 2^31 (callers bound s first), without the
+// libm call (the build targets baseline x86-64, where floor is not an instruction): truncation
+// toward zero is one step too high exactly for negative non-integers.
+inline int FloorToInt(double s) {
+  const int truncated = static_cast<int>(s);
+  return truncated - static_cast<int>(s < truncated);  // no branch: the sign is data
+}
+
 class VoxelIndexTable {
  public:
   static constexpr std::uint32_t kNone = 0xffffffffu;

@@ -86,5 +86,36 @@ TEST(LidarPreprocessing, ConstantVelocityMotionInterpolatesThePreviousMotion) {
   EXPECT_LT(motion(0.0).Log().norm(), 1e-15);
 }
 
+// The tabulated motion is SE3::Interpolate between the table's neighbouring poses, held beyond
+// the ends, bit for bit (it keeps each segment's logarithm instead of taking it per call).
+TEST(LidarPreprocessing, TabulatedMotionIsTheInterpolationOfItsTable) {
+  std::vector<std::pair<double, SE3>> table;
+  for (int k = 0; k <= 20; ++k) {
+    Vec6 xi;
+    xi << 0.1 * k, 0.01 * k * k, -0.002 * k, 0.001 * k, -0.0005 * k * k, 0.02 * k;
+    table.emplace_back(0.005 * k, SE3::Exp(xi));
+  }
+  const SweepMotion motion = TabulatedSweepMotion(table);
+  const auto expected = [&](double ts) {
+    if (ts <= table.front().first) return table.front().second;
+    for (std::size_t k = 1; k < table.size(); ++k) {
+      if (ts <= table[k].first) {
+        const double a = (ts - table[k - 1].first) / (table[k].first - table[k - 1].first);
+        return SE3::Interpolate(table[k - 1].second, table[k].second, a);
+      }
+    }
+    return table.back().second;
+  };
+  std::vector<double> times = {-1.0, 0.0, 0.1, 0.2, 0.5, std::numeric_limits<double>::quiet_NaN()};
+  for (int i = 0; i <= 1000; ++i) times.push_back(0.0001 * i + 1e-7);
+  for (int k = 0; k <= 20; ++k) times.push_back(0.005 * k);
+  for (const double ts : times) {
+    const SE3 got = motion(ts);
+    const SE3 want = expected(ts);
+    EXPECT_EQ(got.rotation().coeffs(), want.rotation().coeffs()) << ts;
+    EXPECT_EQ(got.translation(), want.translation()) << ts;
+  }
+}
+
 }  // namespace
 }  // namespace statebench::est

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <unordered_map>
+#include <vector>
 
 namespace statebench::est {
 namespace {
@@ -94,6 +96,33 @@ TEST(VoxelIndexTable, ClearEmptiesTheTable) {
   table.Clear();
   table.Erase({3, -3, 6});  // absent: no effect
   EXPECT_EQ(table.size(), 0u);
+}
+
+}  // namespace
+}  // namespace statebench::est
+
+namespace statebench::est {
+namespace {
+
+// FloorToInt is the cast of std::floor over the range the voxel keys use (|s| <= 1e9), at
+// integers, just beside them and at signed zeros.
+TEST(VoxelIndexTable, FloorToIntIsTheCastOfTheFloor) {
+  std::vector<double> values = {0.0, -0.0, 1e9, -1e9, 0.5, -0.5, 1e-300, -1e-300};
+  for (int k = -1000; k <= 1000; ++k) {
+    values.push_back(k);
+    values.push_back(std::nextafter(static_cast<double>(k), -2e9));
+    values.push_back(std::nextafter(static_cast<double>(k), 2e9));
+  }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> wide(-1e9, 1e9);
+  std::uniform_real_distribution<double> near(-50.0, 50.0);
+  for (int i = 0; i < 100000; ++i) {
+    values.push_back(wide(rng));
+    values.push_back(near(rng));
+  }
+  for (const double s : values) {
+    EXPECT_EQ(FloorToInt(s), static_cast<int>(std::floor(s))) << s;
+  }
 }
 
 }  // namespace
