@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -31,7 +32,14 @@ struct ImuSample {
 
 enum class GnssFixStatus : int { kNone = 0, kSingle = 1, kRtkFloat = 2, kRtkFixed = 3 };
 
-// A receiver's position fix of its antenna phase centre.
+// A receiver's velocity of its antenna phase centre (from the carrier Doppler), local ENU at the
+// fix, with the 1-sigma it reports per axis (m/s).
+struct GnssVelocity {
+  Vec3 v_enu = Vec3::Zero();
+  Vec3 sigma_enu = Vec3::Zero();
+};
+
+// A receiver's position fix of its antenna phase centre, with its velocity when it gives one.
 struct GnssFix {
   MeasurementHeader header;
   double latitude_deg = 0.0;
@@ -39,6 +47,7 @@ struct GnssFix {
   double altitude_m = 0.0;             // WGS84 ellipsoidal height
   Mat3 covariance_enu = Mat3::Zero();  // m^2, reported by the receiver
   GnssFixStatus status = GnssFixStatus::kNone;
+  std::optional<GnssVelocity> velocity;
 };
 
 // Yaw and pitch of the baseline from a dual-antenna receiver, in the world frame (ENU, yaw

@@ -14,6 +14,7 @@ Eigen::Matrix<T, 3, 1> Velocity(const BodyVelocityMeasurement& m, const Eigen::Q
   const Eigen::Matrix<T, 3, 1> omega = m.gyro_raw.cast<T>() - gyro_bias;
   const Eigen::Matrix<T, 3, 1> v_imu =
       q.conjugate() * v_world + omega.cross(m.p_imu_point.cast<T>());
+  if (m.frame == BodyVelocityMeasurement::Frame::kWorld) return q * v_imu;
   return m.q_imu_frame.conjugate().cast<T>() * v_imu;
 }
 

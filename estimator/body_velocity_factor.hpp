@@ -1,12 +1,15 @@
-// Velocity of a point of the vehicle, in a frame fixed to it, at a stamp between states:
-// the speed encoder / body-velocity odometry, the non-holonomic constraint (zero lateral and
-// vertical velocity at the rear axle) and the zero-velocity factor all measure it.
+// Velocity of a point of the vehicle at a stamp between states, in a frame fixed to the vehicle
+// or in the world frame: the speed encoder / body-velocity odometry, the non-holonomic
+// constraint (zero lateral and vertical velocity at the rear axle) and the zero-velocity factor
+// measure it in a vehicle frame; a GNSS receiver's Doppler velocity of its antenna in ENU.
 //
 // The state at the stamp comes from the latest state at or before it through the IMU
 // (propagated_pose.hpp). The point c sits at p_imu_point in the IMU frame and the measurement
 // frame has rotation R_imu_frame:
 //   v_c = R_imu_frame^T ( R_t^T v_t + (w_meas - b_g) x p_imu_point )
 //   r   = S (v_c - v_measured)
+// or, in the world frame (GNSS velocity: antenna velocity = v + R (omega x lever arm)),
+//   v_c = R_t ( R_t^T v_t + (w_meas - b_g) x p_imu_point ) = v_t + R_t (w x p_imu_point)
 // w_meas is the raw gyro at the stamp; b_g the anchor state's gyro bias. S (3x3) may be
 // rank-deficient: the non-holonomic factor only constrains y and z.
 //
@@ -22,6 +25,8 @@
 namespace statebench::est {
 
 struct BodyVelocityMeasurement {
+  enum class Frame { kVehicle, kWorld };
+  Frame frame = Frame::kVehicle;        // kWorld: v_frame is in ENU and q_imu_frame unused
   Vec3 v_frame = Vec3::Zero();          // measured velocity of the point, measurement frame
   Mat3 sqrt_information = Mat3::Zero();  // S, measurement frame
   Vec3 p_imu_point = Vec3::Zero();

@@ -91,7 +91,7 @@ struct EkfSingleTrackEstimator::Impl {
   MatN P = MatN::Identity();
   double z = 0.0, Pz = 1.0;
   std::map<std::string, TimeNs> last_accepted_gnss_ns, last_accepted_speed_ns,
-      last_accepted_heading_ns;
+      last_accepted_heading_ns, last_accepted_velocity_ns;
   std::vector<Pending> pending;  // stamp-sorted
   std::deque<Snapshot> history;
   // Fixes each antenna's gate refused since its last accepted one: when they agree the filter
@@ -160,6 +160,11 @@ struct EkfSingleTrackEstimator::Impl {
   }
 
   void UpdateGnss(const std::string& id, const SensorInfo& info, const GnssPositionEnu& fix);
+  // The fix's horizontal Doppler velocity of the antenna, R(psi) (vx - r l_y, vy + r l_x), with
+  // the reported sigmas; gated like the position (gnss_gate_chi2, own reset clock), counted as
+  // the antenna's velocity_updates / velocity_gated events.
+  void UpdateGnssVelocity(const std::string& id, const SensorInfo& info,
+                          const GnssPositionEnu& fix);
 
   // The filter no longer matches a consistent track of fixes ("lost"), or the IMU paused too
   // long ("imu_gap"): says so in the diagnostics (the event counted on sensor `id`) and

@@ -142,6 +142,36 @@ void EkfSingleTrackEstimator::Impl::UpdateGnss(const std::string& id, const Sens
   diag.updates.Add(u);
 }
 
+void EkfSingleTrackEstimator::Impl::UpdateGnssVelocity(const std::string& id,
+                                                       const SensorInfo& info,
+                                                       const GnssPositionEnu& fix) {
+  const GnssVelocity& v = *fix.velocity;
+  const double c = std::cos(x[kPsi]), s = std::sin(x[kPsi]);
+  const Vec2 l = info.p_body_sensor.head<2>();
+  const double a = x[kVx] - x[kR] * l.y(), b = x[kVy] + x[kR] * l.x();
+  const Vec2 predicted(c * a - s * b, s * a + c * b);
+  Eigen::Matrix<double, 2, kN> H = Eigen::Matrix<double, 2, kN>::Zero();
+  H(0, kPsi) = -s * a - c * b;
+  H(1, kPsi) = c * a - s * b;
+  H(0, kVx) = c;
+  H(1, kVx) = s;
+  H(0, kVy) = -s;
+  H(1, kVy) = c;
+  H(0, kR) = -(c * l.y() + s * l.x());
+  H(1, kR) = c * l.x() - s * l.y();
+  const Vec2 y = v.v_enu.head<2>() - predicted;
+  const Mat2 R = v.sigma_enu.head<2>().cwiseAbs2().asDiagonal();
+  const auto last = last_accepted_velocity_ns.find(id);
+  if (!Gate(Mahalanobis<2>(y, H, R), options.gnss_gate_chi2, fix.header.stamp_ns,
+            last == last_accepted_velocity_ns.end() ? initialized_ns : last->second)) {
+    ++diag.sensors[id].events["velocity_gated"];
+    return;
+  }
+  Update<2>(y, H, R);
+  last_accepted_velocity_ns[id] = fix.header.stamp_ns;
+  ++diag.sensors[id].events["velocity_updates"];
+}
+
 void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const SensorInfo& info,
                                                   const GnssPositionEnu& fix) {
   if (id != course_antenna) return;

@@ -91,6 +91,7 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
       return;
     }
     UpdateGnss(id, info, *enu);
+    if (enu->velocity && initialized) UpdateGnssVelocity(id, info, *enu);  // not after StartOver
   } else if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
     encoder_speed = speed->speed_mps;
     if (!initialized) {

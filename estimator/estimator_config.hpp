@@ -111,6 +111,9 @@ struct InitializationOptions {
   // speed + 3 sigma) below this. Noisy fixes need a longer wait (CEP 2 m at 10 Hz: ~15 s).
   double static_max_speed_mps = 0.1;
   double course_min_distance_m = 5.0;  // GNSS displacement that defines the course
+  // A GNSS (Doppler) velocity gives the course at once when its horizontal speed is above this
+  // and 10 times its horizontal sigma (yaw sigma under 0.1 rad).
+  double velocity_course_min_speed_mps = 1.0;
   // Prior sigmas of the first state where no measurement gives them.
   double roll_pitch_sigma_rad = 0.02;  // static alignment (accel bias / g ~ 0.01 rad)
   double moving_roll_pitch_sigma_rad = 0.05;
@@ -162,6 +165,7 @@ struct FactorGraphOptions {
   InitializationOptions initialization;
   MeasurementGateOptions gnss;                                       // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
+  MeasurementGateOptions gnss_velocity{1.0, 16.27, 10.0, RobustKernel{}};  // m/s; chi-square(3)
   GnssCalibrationUncertainty gnss_calibration;
   LidarFactorOptions lidar;
   KinematicFactorOptions kinematic;

@@ -78,6 +78,8 @@ OptionTable<InitializationOptions> InitializationTable() {
               "still if the fixes bound the speed below")
       .Number("course_min_distance_m", &I::course_min_distance_m, p,
               "GNSS displacement that defines the course")
+      .Number("velocity_course_min_speed_mps", &I::velocity_course_min_speed_mps, p,
+              "course from a GNSS velocity faster than this (and 10 sigma)")
       .Number("roll_pitch_sigma_rad", &I::roll_pitch_sigma_rad, p, "prior, static alignment")
       .Number("moving_roll_pitch_sigma_rad", &I::moving_roll_pitch_sigma_rad, p,
               "prior, moving start")
@@ -251,6 +253,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m"), "GNSS position factors")
       .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),
                "dual-antenna heading factors")
+      .Section("gnss_velocity", &F::gnss_velocity, GateTable("max_sigma_mps", "m/s"),
+               "GNSS (Doppler) velocity factors")
       .Section("gnss_calibration", &F::gnss_calibration, GnssCalibrationTable(),
                "how far the setup's mounts and clocks may be off: widens GNSS fixes and headings")
       .Section("lidar", &F::lidar, LidarTable(), "lidar odometry factors")

@@ -41,6 +41,10 @@ std::optional<GnssPositionEnu> GnssFixToEnu(const GnssFix& fix, const LocalEnuFr
   out.p_enu = frame.ToEnu({fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
   out.covariance = 0.5 * (cov + cov.transpose());
   out.status = fix.status;
+  if (fix.velocity && fix.velocity->v_enu.allFinite() && fix.velocity->sigma_enu.allFinite() &&
+      (fix.velocity->sigma_enu.array() > 0.0).all()) {
+    out.velocity = fix.velocity;
+  }
   return out;
 }
 

@@ -18,11 +18,13 @@ struct GnssPositionEnu {
   Vec3 p_enu = Vec3::Zero();           // antenna phase centre, m
   Mat3 covariance = Mat3::Identity();  // m^2
   GnssFixStatus status = GnssFixStatus::kNone;
+  std::optional<GnssVelocity> velocity;  // antenna velocity, ENU, when the receiver gives one
 };
 
 // Rejects (nullopt, reason in *why) a fix without a solution, with non-finite or absurd values
 // (|lat| > 90 deg, |lon| > 180 deg, altitude outside [-1000, 100000] m) or with a covariance that
-// is not finite, symmetric and positive definite.
+// is not finite, symmetric and positive definite. A velocity with a non-finite value or a sigma
+// that is not positive is dropped (the position stays usable).
 std::optional<GnssPositionEnu> GnssFixToEnu(const GnssFix& fix, const LocalEnuFrame& frame,
                                             std::string* why = nullptr);
 

@@ -10,6 +10,11 @@
 #include "estimator/measurement_gate.hpp"
 
 namespace statebench::est {
+namespace {
+
+constexpr TimeNs kRecentImuNs = 2 * kNsPerSecond;  // longer than any reorder latency
+
+}  // namespace
 
 GnssFrontEnd::GnssFrontEnd(const EstimatorSensorSetup& setup, const FactorGraphOptions& options,
                            FrontEndContext& ctx)
@@ -67,14 +72,33 @@ void GnssFrontEnd::EndOfStamp() {
   for (const HeadingInput& h : inputs.headings) AddHeading(h);
 }
 
+void GnssFrontEnd::OnImu(const ImuSample& sample) {
+  recent_imu_.push_back(sample);
+  while (recent_imu_.front().header.stamp_ns < sample.header.stamp_ns - kRecentImuNs) {
+    recent_imu_.pop_front();
+  }
+}
+
+Vec3 GnssFrontEnd::RecentGyro(TimeNs t_ns) const {
+  const ImuSample* best = nullptr;
+  for (const ImuSample& s : recent_imu_) {
+    if (best == nullptr ||
+        std::abs(s.header.stamp_ns - t_ns) < std::abs(best->header.stamp_ns - t_ns)) {
+      best = &s;
+    }
+  }
+  return best != nullptr ? best->gyro : Vec3::Zero();
+}
+
 void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
   gnss_gate_.last_accepted_ns = heading_gate_.last_accepted_ns = t_ns;
+  velocity_gate_.last_accepted_ns = t_ns;
 }
 
 void GnssFrontEnd::OnRestart() {
   accepted_.clear();
   refused_.Clear();
-  gnss_gate_ = heading_gate_ = GateState{};
+  gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{};
 }
 
 bool GnssFrontEnd::PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
@@ -94,6 +118,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     ctx_.Accept(id, fix.header.stamp_ns);
     return ctx_.initializer.AddPosition(fix, lever);
   }
+  if (fix.velocity) AddVelocity(in);
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
     fix.covariance += PositionCalibrationCovariance(
         options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
@@ -125,6 +150,33 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   a.fix = fix;
   a.p_imu_antenna = lever;
   accepted_.push_back(a);
+}
+
+void GnssFrontEnd::AddVelocity(const PositionInput& in) {
+  const GnssPositionEnu& fix = in.fix;
+  const GnssVelocity& velocity = *fix.velocity;
+  const std::string& id = fix.header.sensor_id;
+  const TimeNs t = fix.header.stamp_ns;
+  if (velocity.sigma_enu.maxCoeff() > options_.gnss_velocity.max_sigma) {
+    return ctx_.Count(id, "velocity_too_noisy");
+  }
+  if (const auto predicted = ctx_.PredictAt(t)) {
+    const double d2 =
+        GnssVelocityMahalanobisSquared(*predicted, in.p_imu_antenna, RecentGyro(t), velocity);
+    if (!PassesGate(options_.gnss_velocity, velocity_gate_, t, d2)) {
+      return ctx_.Count(id, "velocity_gated");
+    }
+  }
+  BodyVelocityMeasurement m;
+  m.frame = BodyVelocityMeasurement::Frame::kWorld;
+  m.v_frame = velocity.v_enu;
+  m.sqrt_information = velocity.sigma_enu.cwiseInverse().asDiagonal();
+  m.p_imu_point = in.p_imu_antenna;
+  if (ctx_.smoother.AddBodyVelocity(t, m, options_.gnss_velocity.kernel) == AddResult::kTooOld) {
+    return;
+  }
+  velocity_gate_ = {std::max(velocity_gate_.last_accepted_ns, t), false};
+  ctx_.Count(id, "velocity_factors");
 }
 
 void GnssFrontEnd::AddHeading(const HeadingInput& in) {

@@ -3,6 +3,10 @@
 // covariance threshold, paired into headings where the setup says so (GroupStamp), gated on
 // their Mahalanobis distance to the prediction (with a reset after gate_reset_s of rejections),
 // and become position and heading factors; before the first state they feed the initialiser.
+// A fix's Doppler velocity (when the receiver gives one) becomes a world-frame velocity factor
+// of its antenna (body_velocity_factor.hpp, Frame::kWorld), discarded above gnss_velocity's
+// max_sigma and gated on its own Mahalanobis distance (raw gyro of the stamp for the lever arm);
+// counted as the antenna's events velocity_factors / velocity_gated / velocity_too_noisy.
 // Accepted measurements are kept until they leave the window to count those the robust kernel
 // down-weighted at the final estimate.
 #pragma once
@@ -34,6 +38,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
   void EndOfStamp() override;
+  void OnImu(const ImuSample& sample) override;
   void OnInitialized(TimeNs t_ns) override;
   void OnRestart() override;
   void OnMarginalized(std::span<const NavState> left) override;
@@ -60,6 +65,9 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   bool PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
                   double mahalanobis_squared);
   void AddPosition(const PositionInput& in);
+  void AddVelocity(const PositionInput& in);
+  // The raw gyro of the released sample nearest t_ns (zero before any).
+  Vec3 RecentGyro(TimeNs t_ns) const;
   void AddHeading(const HeadingInput& in);
 
   const EstimatorSensorSetup& setup_;
@@ -70,7 +78,8 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   std::map<std::string, GnssPositionEnu> fixes_;        // by antenna id
   std::map<std::string, DualAntennaHeading> headings_;  // by heading id
   TimeNs stamp_ns_ = 0;
-  GateState gnss_gate_, heading_gate_;
+  GateState gnss_gate_, heading_gate_, velocity_gate_;
+  std::deque<ImuSample> recent_imu_;  // the last kRecentImuNs of released samples
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
   RefusedFixTrack refused_;

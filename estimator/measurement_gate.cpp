@@ -42,6 +42,21 @@ double GnssMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_im
   return y.dot(S.ldlt().solve(y));
 }
 
+double GnssVelocityMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_imu_antenna,
+                                      const Vec3& gyro_raw, const GnssVelocity& velocity) {
+  const NavState& x = predicted.state;
+  const Mat3 R = x.q_world_imu.toRotationMatrix();
+  const Vec3 u = (gyro_raw - x.gyro_bias).cross(p_imu_antenna);
+  const Vec3 y = velocity.v_enu - (x.v_world + R * u);
+  Eigen::Matrix<double, 3, 15> H = Eigen::Matrix<double, 3, 15>::Zero();
+  H.block<3, 3>(0, kRotationIndex) = -R * so3::Hat(u);
+  H.block<3, 3>(0, kVelocityIndex) = Mat3::Identity();
+  H.block<3, 3>(0, kGyroBiasIndex) = R * so3::Hat(p_imu_antenna);
+  const Mat3 S =
+      H * predicted.covariance * H.transpose() + Mat3(velocity.sigma_enu.cwiseAbs2().asDiagonal());
+  return y.dot(S.ldlt().solve(y));
+}
+
 double HeadingMahalanobisSquared(const PropagatedState& predicted, const Vec3& baseline_imu,
                                  const DualAntennaHeading& heading) {
   const Mat3 R = predicted.state.q_world_imu.toRotationMatrix();

@@ -4,6 +4,8 @@
 // GNSS antenna position, predicted h(x) = p + R l (l = p_imu_antenna), innovation y = z - h(x):
 //   H = [-R [l]x, I, 0, 0, 0]   (core/state.hpp ordering, right rotation perturbation)
 //   d^2 = y^T (H P H^T + C_fix)^-1 y
+// GNSS antenna velocity, predicted h(x) = v + R (w x l), w = gyro_raw - b_g, u = w x l:
+//   H = [-R [u]x, 0, I, R [l]x, 0]
 // Heading of the body baseline b_imu (main -> aux), b = R b_imu in ENU:
 //   yaw = atan2(b_y, b_x),  pitch = atan2(-b_z, |b_xy|)      (so3::ToRollPitchYaw convention)
 //   d yaw / d b   = (-b_y, b_x, 0) / |b_xy|^2
@@ -25,6 +27,11 @@ double LargestSigma(const Mat3& covariance);
 // Squared Mahalanobis distance of a fix (antenna at p_imu_antenna) from the prediction.
 double GnssMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_imu_antenna,
                               const Vec3& p_enu, const Mat3& covariance_enu);
+
+// Squared Mahalanobis distance of an antenna velocity (ENU, diagonal variances), with the raw
+// gyro at its stamp.
+double GnssVelocityMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_imu_antenna,
+                                      const Vec3& gyro_raw, const GnssVelocity& velocity);
 
 // Squared Mahalanobis distance of a heading (yaw, and pitch if its sigma is positive).
 double HeadingMahalanobisSquared(const PropagatedState& predicted, const Vec3& baseline_imu,

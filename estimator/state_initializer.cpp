@@ -5,7 +5,6 @@
 #include <span>
 
 #include "core/so3.hpp"
-#include "estimator/body_velocity_front_end.hpp"
 #include "estimator/imu_preintegration.hpp"
 
 namespace statebench::est {
@@ -128,7 +127,8 @@ void StateInitializer::UpdateStill() {
         return;
       }
     }
-    if (!FixesProveStandstill(*still_since_ns_, t_end)) {
+    const std::optional<bool> by_velocity = VelocitiesProveStandstill(*still_since_ns_, t_end);
+    if (!(by_velocity ? *by_velocity : FixesProveStandstill(*still_since_ns_, t_end))) {
       still_record_.not_proven = NotProven::kFixesNoProof;
       return;
     }
@@ -138,103 +138,6 @@ void StateInitializer::UpdateStill() {
   tilt.up_imu = accel.mean.normalized();
   tilt.gyro_bias = gyro.mean;
   still_ = tilt;
-}
-
-bool StateInitializer::FixesProveStandstill(TimeNs from_ns, TimeNs to_ns) const {
-  // Horizontal velocity fitted to the fixes (p = p0 + v t), with its standard deviation from
-  // the fixes' mean horizontal variance per axis.
-  double t_mean = 0.0;
-  Vec2 p_mean = Vec2::Zero();
-  double variance = 0.0;
-  int n = 0;
-  for (const Fix& f : fixes_) {
-    const TimeNs t = f.fix.header.stamp_ns;
-    if (t < from_ns || t > to_ns) continue;
-    t_mean += ToSeconds(t - from_ns);
-    p_mean += f.fix.p_enu.head<2>();
-    variance += 0.5 * (f.fix.covariance(0, 0) + f.fix.covariance(1, 1));
-    ++n;
-  }
-  if (n < 3) return false;
-  t_mean /= n;
-  p_mean /= n;
-  variance /= n;
-  double spread = 0.0;
-  Vec2 moment = Vec2::Zero();
-  for (const Fix& f : fixes_) {
-    const TimeNs t = f.fix.header.stamp_ns;
-    if (t < from_ns || t > to_ns) continue;
-    const double dt = ToSeconds(t - from_ns) - t_mean;
-    spread += dt * dt;
-    moment += dt * (f.fix.p_enu.head<2>() - p_mean);
-  }
-  if (!(spread > 0.0)) return false;
-  const Vec2 v = moment / spread;
-  const double sigma_v = std::sqrt(variance / spread);
-  return v.norm() + 3.0 * sigma_v <= options_.static_max_speed_mps;
-}
-
-bool StateInitializer::OdometryProvesStandstill(TimeNs from_ns, TimeNs to_ns) const {
-  if (!local_.has_odometry) return true;
-  Vec3 sum = Vec3::Zero(), variance_sum = Vec3::Zero();
-  Eigen::Vector3i count = Eigen::Vector3i::Zero();
-  for (const OdometryVelocity& v : odometry_) {
-    if (v.t_ns < from_ns || v.t_ns > to_ns) continue;
-    for (int i = 0; i < 3; ++i) {
-      if (!(v.variance[i] < BodyVelocityFrontEnd::kUnmeasuredVariance)) continue;
-      sum[i] += v.v_frame[i];
-      variance_sum[i] += v.variance[i];
-      ++count[i];
-    }
-  }
-  if (count.maxCoeff() < 2) return false;
-  for (int i = 0; i < 3; ++i) {
-    if (count[i] == 0) continue;
-    const double mean = sum[i] / count[i];
-    if (std::abs(mean) + 3.0 * std::sqrt(variance_sum[i]) / count[i] >
-        options_.static_max_speed_mps) {
-      return false;
-    }
-  }
-  return true;
-}
-
-const StateInitializer::Fix* StateInitializer::EarlierFix(TimeNs min_baseline_ns,
-                                                          TimeNs t_min_ns) const {
-  const Fix& b = fixes_.back();
-  // Long enough for a velocity error of about 0.2 m/s from the fix noise.
-  const double sigma = std::sqrt(b.fix.covariance.trace());
-  const TimeNs baseline_ns =
-      std::clamp(FromSeconds(sigma / 0.2), min_baseline_ns, 10 * kNsPerSecond);
-  for (auto it = fixes_.rbegin(); it != fixes_.rend(); ++it) {
-    const TimeNs t = it->fix.header.stamp_ns;
-    if (t < t_min_ns) break;
-    if (b.fix.header.stamp_ns - t >= baseline_ns) return &*it;
-  }
-  return nullptr;
-}
-
-std::optional<StateInitializer::YawReference> StateInitializer::CourseReference() const {
-  if (fixes_.size() < 2) return std::nullopt;
-  const Fix& b = fixes_.back();
-  for (auto it = std::next(fixes_.rbegin()); it != fixes_.rend(); ++it) {
-    const Vec3 chord = b.fix.p_enu - it->fix.p_enu;
-    const double sigma_h = std::sqrt(0.5 * (b.fix.covariance(0, 0) + b.fix.covariance(1, 1) +
-                                            it->fix.covariance(0, 0) + it->fix.covariance(1, 1)));
-    // Noisy fixes need a longer chord: the yaw error is about sqrt(2) sigma_h / length.
-    const double min_length = std::max(options_.course_min_distance_m, 15.0 * sigma_h);
-    const double length = chord.head<2>().norm();
-    if (length < min_length) continue;
-    YawReference ref;
-    ref.t_ns = (b.fix.header.stamp_ns + it->fix.header.stamp_ns) / 2;
-    ref.direction_imu = forward_imu_;
-    ref.yaw_rad = std::atan2(chord.y(), chord.x());
-    ref.pitch_rad = std::atan2(-chord.z(), length);
-    ref.sigma_rad = std::max(options_.course_yaw_sigma_rad, std::sqrt(2.0) * sigma_h / length);
-    ref.method = "gnss course";
-    return ref;
-  }
-  return std::nullopt;
 }
 
 ImuPreintegration StateInitializer::Preintegrate(TimeNs from_ns, TimeNs to_ns,
@@ -273,6 +176,11 @@ std::optional<StateInitializer::Anchor> StateInitializer::StaticAnchor(const Yaw
   x.p_world = b.fix.p_enu - x.q_world_imu * b.p_imu_antenna;
   x.gyro_bias = bg;
   if (anchor.still_now) return anchor;
+  if (b.fix.velocity) {
+    x.v_world = ImuVelocityFromFix(b, x.q_world_imu, bg);
+    anchor.sigma_v_fix = b.fix.velocity->sigma_enu.norm();
+    return anchor;
+  }
   const Fix* a = EarlierFix(kNsPerSecond, imu_.front().header.stamp_ns);
   if (a == nullptr) return std::nullopt;
   const TimeNs t_a = a->fix.header.stamp_ns;
@@ -336,6 +244,47 @@ std::optional<StateInitializer::Anchor> StateInitializer::MovingAnchor(
   return anchor;
 }
 
+std::optional<StateInitializer::Anchor> StateInitializer::VelocityAnchor(
+    const YawReference& yaw) const {
+  // Two fixes a, b with velocities: with u_k = w_k x l (IMU frame) and dv, dR preintegrated
+  // from t_a, v_antenna_k = v_k + R_k u_k and v_b = v_a + g tau + R_a dv give
+  //   R_a (dv + dR u_b - u_a) = v_antenna_b - v_antenna_a - g tau,
+  // a vector observation of R_a (mostly gravity); TRIAD with the yaw reference gives R_a.
+  const Fix& b = fixes_.back();
+  if (!b.fix.velocity) return std::nullopt;
+  const TimeNs t_b = b.fix.header.stamp_ns;
+  const Fix* a = nullptr;
+  for (auto it = fixes_.rbegin(); it != fixes_.rend(); ++it) {
+    const TimeNs t = it->fix.header.stamp_ns;
+    if (t < imu_.front().header.stamp_ns) break;
+    if (t_b - t >= kNsPerSecond && it->fix.velocity) {
+      a = &*it;
+      break;
+    }
+  }
+  if (a == nullptr) return std::nullopt;
+  const TimeNs t_a = a->fix.header.stamp_ns;
+  const double tau = ToSeconds(t_b - t_a);
+  const Vec3 bg = Vec3::Zero();  // unknown while moving
+  const ImuPreintegration pim = Preintegrate(t_a, t_b, bg);
+  const Vec3 u_a = GyroNear(t_a).cross(a->p_imu_antenna);
+  const Vec3 u_b = GyroNear(t_b).cross(b.p_imu_antenna);
+  const Vec3 body = pim.delta_v() + pim.delta_q() * u_b - u_a;
+  const Vec3 world = b.fix.velocity->v_enu - a->fix.velocity->v_enu - kGravityWorld * tau;
+  const Vec3 d_body = GyroDelta(t_a, yaw.t_ns, bg) * yaw.direction_imu;
+  const Vec3 d_world(std::cos(yaw.pitch_rad) * std::cos(yaw.yaw_rad),
+                     std::cos(yaw.pitch_rad) * std::sin(yaw.yaw_rad), -std::sin(yaw.pitch_rad));
+  Anchor anchor;
+  anchor.sigma_tilt = options_.moving_roll_pitch_sigma_rad;
+  NavState& x = anchor.state;
+  x.t_ns = t_a;
+  x.q_world_imu = Triad(body, world, d_body, d_world);
+  x.p_world = a->fix.p_enu - x.q_world_imu * a->p_imu_antenna;
+  x.v_world = ImuVelocityFromFix(*a, x.q_world_imu, bg);
+  anchor.sigma_v_fix = a->fix.velocity->sigma_enu.norm();
+  return anchor;
+}
+
 std::optional<InitialState> StateInitializer::TryInitialize() {
   if (local_.enabled) return TryInitializeLocal();
   if (imu_.empty() || fixes_.empty()) return std::nullopt;
@@ -344,6 +293,7 @@ std::optional<InitialState> StateInitializer::TryInitialize() {
   if (mode == InitializationMode::kStatic && !use_still) return std::nullopt;
 
   std::optional<YawReference> yaw = heading_;
+  if (!yaw) yaw = VelocityCourseReference();
   if (!yaw) yaw = CourseReference();
   if (!yaw) return std::nullopt;
   const TimeNs t0 = imu_.back().header.stamp_ns;
@@ -352,7 +302,8 @@ std::optional<InitialState> StateInitializer::TryInitialize() {
   if (yaw->t_ns < t_imu_begin || yaw->t_ns > t0 || t_fix < t_imu_begin || t_fix > t0) {
     return std::nullopt;
   }
-  const std::optional<Anchor> anchor = use_still ? StaticAnchor(*yaw, t0) : MovingAnchor(*yaw);
+  std::optional<Anchor> anchor = use_still ? StaticAnchor(*yaw, t0) : VelocityAnchor(*yaw);
+  if (!anchor && !use_still) anchor = MovingAnchor(*yaw);
   if (!anchor) return std::nullopt;
 
   InitialState out;

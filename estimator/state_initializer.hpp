@@ -9,15 +9,25 @@
 //  - Attitude, moving: three fixes a, m, b of one antenna and the IMU preintegrated from a give
 //    an exact vector observation of R_a (mostly gravity plus whatever the vehicle accelerated,
 //    independent of the dynamics; see MovingAnchor), and the yaw reference a second one: TRIAD.
-//  - Yaw: a dual-antenna heading (yaw of the baseline main -> aux) or the GNSS course: the
-//    horizontal chord between two fixes at least course_min_distance_m apart (more if the fixes
-//    are noisy) is parallel to the vehicle's forward axis at about the middle of the chord.
+//  - Attitude, moving with GNSS (Doppler) velocities: two fixes a, b at least 1 s apart with
+//    velocities and the IMU preintegrated between them give the same vector observation from
+//    velocities, R_a (dv + dR [w_b]x l - [w_a]x l) = v_b - v_a - g tau (see VelocityAnchor),
+//    within seconds where positions at CEP 2 m need a 10 s baseline.
+//  - Yaw: a dual-antenna heading (yaw of the baseline main -> aux), the course of a GNSS velocity
+//    (its horizontal speed above velocity_course_min_speed_mps and 10 sigma: the antenna's
+//    velocity s f + w x l in the IMU frame, f the forward axis, s >= 0 solved from |v|) or the
+//    GNSS course: the horizontal chord between two fixes at least course_min_distance_m apart
+//    (more if the fixes are noisy) is parallel to the vehicle's forward axis at about the middle
+//    of the chord.
 // Static: the tilt and the yaw reference are taken at different stamps; the gyro (minus the gyro
 // bias estimate) carries both to the initialisation stamp, and the yaw is fixed by a rotation
 // about the world z axis, R = Rz(delta) R_tilt, which keeps the tilt.
 // Position: the newest fix moved to the IMU through the lever arm; velocity: zero if the still
-// period reaches the initialisation stamp, else from two fixes and the IMU displacement between
-// them (exact for any motion once the attitude is known; the accel bias is taken as zero).
+// period reaches the initialisation stamp, else the newest fix's velocity moved to the IMU
+// (v_imu = v_antenna - R (w x l)) when it has one, else from two fixes and the IMU displacement
+// between them (exact for any motion once the attitude is known; the accel bias is taken as
+// zero). Doppler velocities also prove a standstill (mean horizontal velocity + 3 sigma below
+// static_max_speed_mps) where noisy positions need many seconds.
 // Covariance: diagonal in roll/pitch/yaw (world frame, mapped to the right perturbation
 // R^T diag(...) R), position from the fix, velocity and biases from the options.
 //
@@ -137,6 +147,15 @@ class StateInitializer {
   std::string StillWaitingFor() const;
   std::string LocalWaitingFor() const;
   std::optional<YawReference> CourseReference() const;
+  std::optional<YawReference> VelocityCourseReference() const;
+  std::optional<Anchor> VelocityAnchor(const YawReference& yaw) const;
+  // Whether the Doppler velocities stamped in [from_ns, to_ns] bound the horizontal speed below
+  // static_max_speed_mps; nullopt when fewer than two fixes there have one.
+  std::optional<bool> VelocitiesProveStandstill(TimeNs from_ns, TimeNs to_ns) const;
+  // Raw gyro of the IMU sample nearest t_ns.
+  Vec3 GyroNear(TimeNs t_ns) const;
+  // Velocity of the IMU from a fix's antenna velocity, attitude and gyro bias.
+  Vec3 ImuVelocityFromFix(const Fix& f, const Quat& q_world_imu, const Vec3& gyro_bias) const;
   std::optional<Anchor> StaticAnchor(const YawReference& yaw, TimeNs t0_ns) const;
   std::optional<Anchor> MovingAnchor(const YawReference& yaw) const;
   ImuPreintegration Preintegrate(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;

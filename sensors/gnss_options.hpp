@@ -62,6 +62,18 @@ struct GnssSatelliteThresholds {
   int single = 4;
 };
 
+// The receiver's Doppler velocity of the antenna (off by default). White noise per ENU axis
+// (carrier-Doppler velocity errors decorrelate within an epoch); reported sigma
+// sqrt(covariance_scale) x the true one, like the position. Defaults: consumer receivers give
+// 0.05 m/s speed accuracy (50 %, u-blox NEO-M8 / ZED-F9P data sheets), i.e. about 0.04 m/s per
+// horizontal axis in open sky; 0.07 m/s leaves room for multipath and dynamics, and the vertical
+// is worse (geometry), as for the position.
+struct GnssVelocityOptions {
+  bool enabled = false;
+  double horizontal_sigma_mps = 0.07;  // per horizontal axis
+  double vertical_sigma_mps = 0.12;
+};
+
 struct GnssOptions {
   GnssMode mode = GnssMode::kRtkFixed;
   // Accuracy per mode, indexed by GnssMode. The configured mode uses its entry; the others are
@@ -75,6 +87,7 @@ struct GnssOptions {
   std::vector<GnssOutage> outages;
   GnssMultipathOptions multipath;
   GnssSatelliteThresholds min_satellites;
+  GnssVelocityOptions velocity;
 
   const GnssAccuracy& AccuracyOf(GnssMode m) const { return accuracy[static_cast<int>(m)]; }
   GnssAccuracy& AccuracyOf(GnssMode m) { return accuracy[static_cast<int>(m)]; }

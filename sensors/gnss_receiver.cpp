@@ -1,12 +1,17 @@
 #include "sensors/gnss_receiver.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace statebench::sensors {
 
 GnssReceiver::GnssReceiver(const SensorSpec& spec, const GnssOptions& options,
                            const LocalEnuFrame& frame, std::uint64_t seed)
-    : SensorModel(spec), options_(options), frame_(frame), errors_(options, seed, spec.id) {}
+    : SensorModel(spec),
+      options_(options),
+      frame_(frame),
+      errors_(options, seed, spec.id),
+      velocity_rng_(MakeRng(seed, spec.id + "/velocity")) {}
 
 void GnssReceiver::Observe(const TruthSample& truth, std::vector<Measurement>* out) {
   if (!spec().IsSampleTime(truth.t_ns)) return;
@@ -34,6 +39,17 @@ std::optional<GnssMode> GnssReceiver::ModeAt(const Vec3& p_world_antenna, TimeNs
   return std::min(allowed, options_.mode);  // never better than the configured mode
 }
 
+GnssVelocity GnssReceiver::SampleVelocity(const TruthSample& truth) {
+  const GnssVelocityOptions& o = options_.velocity;
+  const Vec3 sigma(o.horizontal_sigma_mps, o.horizontal_sigma_mps, o.vertical_sigma_mps);
+  Vec3 noise;
+  for (int i = 0; i < 3; ++i) noise[i] = sigma[i] * velocity_normal_(velocity_rng_);
+  GnssVelocity v;
+  v.v_enu = truth.body.AtMount(spec().T_body_sensor).v_world + noise;
+  v.sigma_enu = std::sqrt(options_.covariance_scale) * sigma;
+  return v;
+}
+
 std::optional<GnssFix> GnssReceiver::Sample(const TruthSample& truth) {
   if (InOutage(truth.t_ns)) return std::nullopt;
   const Vec3 p_world_antenna = truth.body.T_world_frame * spec().T_body_sensor.translation();
@@ -53,6 +69,7 @@ std::optional<GnssFix> GnssReceiver::Sample(const TruthSample& truth) {
   const double sv = accuracy.vertical_sigma_m;
   fix.covariance_enu = options_.covariance_scale * Vec3(sh * sh, sh * sh, sv * sv).asDiagonal();
   fix.status = ToFixStatus(*mode);
+  if (options_.velocity.enabled) fix.velocity = SampleVelocity(truth);
   return fix;
 }
 

@@ -3,6 +3,10 @@
 // latitude/longitude/ellipsoidal height through the scenario's local ENU frame (GeographicLib,
 // exact). It reports a 3x3 ENU covariance and a fix status like a real receiver.
 //
+// With options.velocity.enabled the fix also carries the antenna's ENU velocity (truth
+// v + R (omega x lever arm), exact rigid-body kinematics) plus white noise from its own random
+// stream (seed, "<id>/velocity"), so turning it on leaves the position bits unchanged.
+//
 // No fix is produced inside a scheduled outage, nor when a SatelliteVisibility model leaves
 // fewer satellites than the single-point threshold. The fix stamp is the truth time it was taken
 // at; it arrives latency_s later.
@@ -11,8 +15,10 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <random>
 
 #include "core/geodetic.hpp"
+#include "core/random.hpp"
 #include "sensors/gnss_error_process.hpp"
 #include "sensors/gnss_options.hpp"
 #include "sensors/satellite_visibility.hpp"
@@ -43,10 +49,13 @@ class GnssReceiver : public SensorModel {
 
  private:
   bool InOutage(TimeNs t_ns) const;
+  GnssVelocity SampleVelocity(const TruthSample& truth);
 
   GnssOptions options_;
   LocalEnuFrame frame_;
   GnssErrorProcess errors_;
+  std::mt19937_64 velocity_rng_;
+  NormalSampler velocity_normal_;
   std::shared_ptr<const SatelliteVisibility> visibility_;
 };
 

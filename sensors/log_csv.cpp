@@ -1,6 +1,9 @@
 #include "sensors/log_csv.hpp"
 
+#include <cassert>
 #include <type_traits>
+
+#include "core/error.hpp"
 
 namespace statebench::sensors {
 namespace {
@@ -24,15 +27,68 @@ MeasurementHeader HeaderFrom(const std::string& id, const CsvRow& row, StampColu
   return MeasurementHeader{id, row.Int(c.stamp), row.Int(c.arrival)};
 }
 
+constexpr std::size_t kGnssVelocityColumn = 15;  // after status
+
+void AppendGnssVelocity(std::string& out, const std::optional<GnssVelocity>& v) {
+  if (!v) {
+    out += ",,,,,,";
+    return;
+  }
+  for (int i = 0; i < 3; ++i) Comma(out, v->v_enu[i]);
+  for (int i = 0; i < 3; ++i) Comma(out, v->sigma_enu[i]);
+}
+
+std::optional<GnssVelocity> ParseGnssVelocity(const CsvRow& row) {
+  const std::size_t c0 = kGnssVelocityColumn;
+  int empty = 0;
+  for (std::size_t c = c0; c < c0 + 6; ++c) empty += row.Text(c).empty() ? 1 : 0;
+  if (empty == 6) return std::nullopt;
+  GnssVelocity v;
+  for (int i = 0; i < 3; ++i) {
+    if (row.Text(c0 + i).empty() || row.Text(c0 + 3 + i).empty()) {
+      row.Fail(row.Text(c0 + i).empty() ? c0 + i : c0 + 3 + i,
+               "missing value (the six velocity cells are all numbers or all empty)");
+    }
+    v.v_enu[i] = row.Double(c0 + i);
+    v.sigma_enu[i] = row.Double(c0 + 3 + i);
+    if (!(v.sigma_enu[i] > 0.0)) row.Fail(c0 + 3 + i, "must be > 0");
+  }
+  return v;
+}
+
 }  // namespace
+
+LogCsvLayout LogCsvLayoutOf(LogStreamType type, const std::vector<std::string>& header,
+                            std::string_view file) {
+  LogCsvLayout layout{type, false};
+  const std::size_t own = LogCsvColumns(type).size();
+  if (header.size() == own) return layout;
+  layout.gnss_velocity = type == LogStreamType::kGnss;
+  const std::vector<std::string> full = layout.Columns();
+  for (std::size_t i = own; i < header.size(); ++i) {
+    if (i >= full.size() || header[i] != full[i]) {
+      throw InputError(std::string(file) + ":1: unexpected column '" + header[i] +
+                       "' at position " + std::to_string(i + 1) +
+                       (type == LogStreamType::kGnss
+                            ? " (a gnss file may add exactly: ve, vn, vu, sigma_ve, sigma_vn, "
+                              "sigma_vu [m s^-1])"
+                            : ""));
+    }
+  }
+  if (header.size() < full.size()) {
+    throw InputError(std::string(file) + ":1: missing column '" + full[header.size()] +
+                     "' (expected at position " + std::to_string(header.size() + 1) + ")");
+  }
+  return layout;
+}
 
 StampColumns StampColumnsOf(LogStreamType type) {
   return type == LogStreamType::kImu ? StampColumns{0, 7} : StampColumns{0, 1};
 }
 
-void AppendLogCsvRow(std::string& out, const Measurement& m) {
+void AppendLogCsvRow(std::string& out, const Measurement& m, const LogCsvLayout& layout) {
   std::visit(
-      [&out](const auto& x) {
+      [&out, &layout](const auto& x) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, ImuSample>) {
           AppendNumber(out, x.header.stamp_ns);
@@ -49,6 +105,8 @@ void AppendLogCsvRow(std::string& out, const Measurement& m) {
           }
           out += ',';
           out += GnssStatusName(x.status);
+          assert(layout.gnss_velocity || !x.velocity);
+          if (layout.gnss_velocity) AppendGnssVelocity(out, x.velocity);
         } else if constexpr (std::is_same_v<T, DualAntennaHeading>) {
           AppendStamps(out, x.header);
           Comma(out, x.yaw_rad);
@@ -88,8 +146,9 @@ void AppendLidarIndexRow(std::string& out, const LidarScan& scan, std::string_vi
   out += '\n';
 }
 
-void CheckColumnCount(LogStreamType type, const CsvRow& row) {
-  const std::size_t expected = LogCsvColumns(type).size();
+void CheckColumnCount(const LogCsvLayout& layout, const CsvRow& row) {
+  const std::size_t expected = LogCsvColumns(layout.type).size() +
+                               (layout.gnss_velocity ? GnssVelocityCsvColumns().size() : 0);
   if (row.size() > expected) {
     row.Fail(expected,
              "unexpected extra value (the file has " + std::to_string(expected) + " columns)");
@@ -97,10 +156,10 @@ void CheckColumnCount(LogStreamType type, const CsvRow& row) {
   if (row.size() < expected) row.Fail(row.size(), "missing value");
 }
 
-Measurement ParseLogCsvRow(LogStreamType type, const std::string& id, const CsvRow& row) {
-  CheckColumnCount(type, row);
-  const MeasurementHeader header = HeaderFrom(id, row, StampColumnsOf(type));
-  switch (type) {
+Measurement ParseLogCsvRow(const LogCsvLayout& layout, const std::string& id, const CsvRow& row) {
+  CheckColumnCount(layout, row);
+  const MeasurementHeader header = HeaderFrom(id, row, StampColumnsOf(layout.type));
+  switch (layout.type) {
     case LogStreamType::kImu: {
       ImuSample s{header};
       for (int i = 0; i < 3; ++i) s.gyro[i] = row.Double(1 + i);
@@ -108,7 +167,8 @@ Measurement ParseLogCsvRow(LogStreamType type, const std::string& id, const CsvR
       return s;
     }
     case LogStreamType::kGnss: {
-      GnssFix f{header};
+      GnssFix f;
+      f.header = header;
       f.latitude_deg = row.Double(2);
       f.longitude_deg = row.Double(3);
       f.altitude_m = row.Double(4);
@@ -121,6 +181,7 @@ Measurement ParseLogCsvRow(LogStreamType type, const std::string& id, const CsvR
                          "' (expected none, single, rtk_float or rtk_fixed)");
       }
       f.status = *status;
+      if (layout.gnss_velocity) f.velocity = ParseGnssVelocity(row);
       return f;
     }
     case LogStreamType::kDualAntennaHeading: {

@@ -67,6 +67,22 @@ const std::vector<std::string>& LogCsvColumns(LogStreamType type) {
   return columns[static_cast<int>(type)];
 }
 
+const std::vector<std::string>& GnssVelocityCsvColumns() {
+  static const std::vector<std::string> columns = {"ve [m s^-1]",       "vn [m s^-1]",
+                                                   "vu [m s^-1]",       "sigma_ve [m s^-1]",
+                                                   "sigma_vn [m s^-1]", "sigma_vu [m s^-1]"};
+  return columns;
+}
+
+std::vector<std::string> LogCsvLayout::Columns() const {
+  std::vector<std::string> columns = LogCsvColumns(type);
+  if (gnss_velocity) {
+    const auto& v = GnssVelocityCsvColumns();
+    columns.insert(columns.end(), v.begin(), v.end());
+  }
+  return columns;
+}
+
 std::string_view GnssStatusName(GnssFixStatus status) {
   return kStatusNames[static_cast<int>(status)];
 }

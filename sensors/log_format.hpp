@@ -35,6 +35,17 @@ LogStreamType StreamTypeOf(const Measurement& m);
 // Column names of the type's CSV file, in order (header line "#" + names joined by ','). For
 // lidar this is the per-sensor index of sweeps (stamp, arrival, point count, PCD file name).
 const std::vector<std::string>& LogCsvColumns(LogStreamType type);
+// The optional columns a gnss file may add after LogCsvColumns(kGnss): the receiver's ENU
+// velocity and its 1-sigma per axis (ve, vn, vu, sigma_ve, sigma_vn, sigma_vu).
+const std::vector<std::string>& GnssVelocityCsvColumns();
+
+// The columns of one log CSV file: its type's, plus for gnss optionally the velocity ones.
+struct LogCsvLayout {
+  LogStreamType type = LogStreamType::kImu;
+  bool gnss_velocity = false;  // GnssVelocityCsvColumns() after the gnss columns
+
+  std::vector<std::string> Columns() const;
+};
 
 // GnssFixStatus as text: none, single, rtk_float, rtk_fixed.
 std::string_view GnssStatusName(GnssFixStatus status);

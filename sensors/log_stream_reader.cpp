@@ -34,6 +34,7 @@ LogStreamReader::LogStreamReader(const std::filesystem::path& log_dir, const Log
   }
   try {
     header_ = ParseCsvHeader(path_text_, header_line, LogCsvColumns(entry_.type));
+    layout_ = LogCsvLayoutOf(entry_.type, header_, path_text_);
   } catch (const InputError& e) {
     error_ = e.what();
     done_ = true;
@@ -63,7 +64,7 @@ Measurement LogStreamReader::ParseLine(const std::string& line) {
   SplitCsvLine(line, &cells_);
   const CsvRow row(path_text_, line_, &header_, cells_);
   const StampColumns c = StampColumnsOf(entry_.type);
-  CheckColumnCount(entry_.type, row);
+  CheckColumnCount(layout_, row);
   const TimeNs stamp_ns = row.Int(c.stamp);
   const TimeNs arrival_ns = row.Int(c.arrival);
   if (last_stamp_ns_ && stamp_ns <= *last_stamp_ns_) {
@@ -76,7 +77,7 @@ Measurement LogStreamReader::ParseLine(const std::string& line) {
   }
   last_stamp_ns_ = stamp_ns;
   last_arrival_ns_ = arrival_ns;
-  if (entry_.type != LogStreamType::kLidar) return ParseLogCsvRow(entry_.type, entry_.id, row);
+  if (entry_.type != LogStreamType::kLidar) return ParseLogCsvRow(layout_, entry_.id, row);
 
   // Lidar index row: stamp, arrival, points, file.
   const std::int64_t count = row.Int(2);

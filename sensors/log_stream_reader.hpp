@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/measurements.hpp"
+#include "sensors/log_format.hpp"
 #include "sensors/log_manifest.hpp"
 
 namespace statebench::sensors {
@@ -39,6 +40,7 @@ class LogStreamReader {
   std::filesystem::path sweep_dir_;  // lidar: the index path without ".csv", holding the sweeps
   std::ifstream in_;
   std::vector<std::string> header_;
+  LogCsvLayout layout_;
   std::vector<std::string_view> cells_;  // of the row being parsed (storage reused)
   std::size_t line_ = 0;
   bool done_ = false;

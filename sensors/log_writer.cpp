@@ -15,9 +15,9 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kFlushBytes = 1 << 20;
 
-std::string HeaderLine(LogStreamType type) {
+std::string HeaderLine(const LogCsvLayout& layout) {
   std::string line = "#";
-  const auto& columns = LogCsvColumns(type);
+  const auto columns = layout.Columns();
   for (std::size_t i = 0; i < columns.size(); ++i) {
     if (i > 0) line += ',';
     line += columns[i];
@@ -29,6 +29,7 @@ std::string HeaderLine(LogStreamType type) {
 
 struct LogWriter::Stream {
   LogStreamEntry entry;
+  LogCsvLayout layout;
   fs::path path;
   std::ofstream out;
   std::string buffer;
@@ -98,7 +99,12 @@ LogWriter::Stream& LogWriter::StreamFor(const Measurement& m) {
   if (ec) throw InputError(s->path.parent_path().string() + ": cannot create: " + ec.message());
   s->out.open(s->path, std::ios::binary | std::ios::trunc);
   if (!s->out) throw InputError(s->path.string() + ": cannot create");
-  s->buffer = HeaderLine(type);
+  s->layout.type = type;
+  if (const auto* fix = std::get_if<GnssFix>(&m)) {
+    s->layout.gnss_velocity =
+        fix->velocity.has_value() || options_.gnss_velocity_ids.contains(h.sensor_id);
+  }
+  s->buffer = HeaderLine(s->layout);
   Stream& ref = *s;
   by_id_[h.sensor_id] = s.get();
   streams_.push_back(std::move(s));
@@ -120,7 +126,13 @@ void LogWriter::Write(const Measurement& m) {
   if (const auto* scan = std::get_if<LidarScan>(&m)) {
     WriteLidar(s, *scan);
   } else {
-    AppendLogCsvRow(s.buffer, m);
+    const auto* fix = std::get_if<GnssFix>(&m);
+    if (fix && fix->velocity && !s.layout.gnss_velocity) {
+      throw InputError("log: gnss sensor '" + h.sensor_id +
+                       "': a fix with a velocity after fixes without (list the sensor in "
+                       "LogWriterOptions::gnss_velocity_ids)");
+    }
+    AppendLogCsvRow(s.buffer, m, s.layout);
   }
   ++s.entry.count;
   if (s.buffer.size() >= kFlushBytes) s.Flush();

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct LogWriterOptions {
   std::string setup_yaml;               // copied to setup.yaml when not empty
   std::optional<SE3> truth_T_body_imu;  // when set, WriteTruth writes the truth files
   LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // the files of the lidar sweeps
+  // GNSS sensors whose files get the velocity columns (docs/log-format.md); a stream whose
+  // first fix carries a velocity gets them too.
+  std::set<std::string> gnss_velocity_ids;
 };
 
 struct LogStreamStats {
@@ -55,7 +59,8 @@ class LogWriter {
   LogWriter& operator=(const LogWriter&) = delete;
 
   // Measurements of one sensor must come with strictly increasing stamps and non-decreasing
-  // arrivals, and keep their type; throws InputError otherwise (the log would not read back).
+  // arrivals, and keep their type; throws InputError otherwise (the log would not read back),
+  // and for a fix with a velocity in a gnss file without the velocity columns.
   void Write(const Measurement& m);
   // Throws InputError if the options gave no truth_T_body_imu.
   void WriteTruth(const TruthSample& sample);

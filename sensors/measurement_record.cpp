@@ -61,6 +61,12 @@ struct Fields {
     Scalar(&m->altitude_m);
     Matrix_(&m->covariance_enu);
     Scalar(&m->status);
+    bool has_velocity = m->velocity.has_value();
+    Scalar(&has_velocity);
+    if (!has_velocity) return;
+    if (!m->velocity) m->velocity.emplace();
+    Matrix_(&m->velocity->v_enu);
+    Matrix_(&m->velocity->sigma_enu);
   }
   void Body(DualAntennaHeading* m) {
     Scalar(&m->yaw_rad);

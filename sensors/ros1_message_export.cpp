@@ -89,6 +89,19 @@ geometry_msgs::TwistWithCovarianceStamped BodyVelocityToRos(const BodyVelocity& 
   return msg;
 }
 
+geometry_msgs::TwistWithCovarianceStamped GnssVelocityToRos(const GnssFix& m,
+                                                            const std::string& frame_id) {
+  geometry_msgs::TwistWithCovarianceStamped msg;
+  msg.header = RosHeader(m.header, frame_id);
+  msg.twist.twist.linear = RosVector(m.velocity->v_enu);
+  for (int i = 0; i < 3; ++i) {
+    const double sigma = m.velocity->sigma_enu[i];
+    msg.twist.covariance[static_cast<std::size_t>(7 * i)] = sigma * sigma;
+    msg.twist.covariance[static_cast<std::size_t>(7 * (i + 3))] = -1.0;
+  }
+  return msg;
+}
+
 geometry_msgs::TwistStamped SpeedToRos(const VehicleSpeed& m, const std::string& frame_id) {
   geometry_msgs::TwistStamped msg;
   msg.header = RosHeader(m.header, frame_id);

@@ -151,6 +151,36 @@ BodyVelocity BodyVelocityFromRos(const geometry_msgs::Twist& twist, const RosTop
   return b;
 }
 
+GnssVelocity GnssVelocityFromRos(const geometry_msgs::Twist& twist,
+                                 const boost::array<double, 36>* covariance,
+                                 const RosTopicEntry& entry) {
+  GnssVelocity v;
+  v.v_enu = FiniteVector(twist.linear, "twist.linear");
+  if (entry.velocity_sigma_mps) {
+    v.sigma_enu = *entry.velocity_sigma_mps;
+    return v;
+  }
+  if (covariance == nullptr) {
+    throw InputError(
+        "a TwistStamped carries no covariance: give velocity_sigma_mps [east, north, up] for this "
+        "topic in the topic map");
+  }
+  for (int i = 0; i < 3; ++i) {
+    const double variance = (*covariance)[static_cast<std::size_t>(7 * i)];
+    if (!std::isfinite(variance) || variance < 0.0) {
+      throw InputError("twist covariance diagonal element " + std::to_string(i) +
+                       " is not a variance (" + std::to_string(variance) + ")");
+    }
+    v.sigma_enu[i] = std::sqrt(variance);
+  }
+  if (!(v.sigma_enu.array() > 0.0).all()) {
+    throw InputError(
+        "the twist's linear covariance has a zero variance (unknown): give velocity_sigma_mps "
+        "for this topic in the topic map");
+  }
+  return v;
+}
+
 double SpeedFromRos(const geometry_msgs::Twist& twist) {
   if (!std::isfinite(twist.linear.x)) throw InputError("twist.linear.x is not finite");
   return twist.linear.x;

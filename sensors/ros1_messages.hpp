@@ -48,6 +48,13 @@ BodyVelocity BodyVelocityFromRos(const geometry_msgs::TwistWithCovariance& twist
 BodyVelocity BodyVelocityFromRos(const geometry_msgs::Twist& twist, const RosTopicEntry& entry);
 double SpeedFromRos(const geometry_msgs::Twist& twist);  // linear.x
 
+// A receiver's ENU velocity (gnss_velocity topic): linear (x east, y north, z up) with the square
+// roots of the covariance's linear diagonal (nullptr: a TwistStamped, no covariance), replaced by
+// entry.velocity_sigma_mps when that is given; an all-zero linear block is "unknown" and needs it.
+GnssVelocity GnssVelocityFromRos(const geometry_msgs::Twist& twist,
+                                 const boost::array<double, 36>* covariance,
+                                 const RosTopicEntry& entry);
+
 // nullopt when the message names none of the entry's joints (a JointState topic may carry other
 // joints in separate messages).
 std::optional<SteeringAngle> SteeringFromRos(const sensor_msgs::JointState& msg,
@@ -75,6 +82,10 @@ ros::Time RosTime(TimeNs t_ns);
 sensor_msgs::Imu ImuToRos(const ImuSample& m, const std::string& frame_id);
 sensor_msgs::NavSatFix GnssFixToRos(const GnssFix& m, const std::string& frame_id);
 geometry_msgs::TwistWithCovarianceStamped BodyVelocityToRos(const BodyVelocity& m,
+                                                            const std::string& frame_id);
+// The fix's velocity (it must have one) with diag(sigma^2) as the linear covariance and the
+// unmeasured angular velocity at variance -1 (not used by the import).
+geometry_msgs::TwistWithCovarianceStamped GnssVelocityToRos(const GnssFix& m,
                                                             const std::string& frame_id);
 geometry_msgs::TwistStamped SpeedToRos(const VehicleSpeed& m, const std::string& frame_id);
 // JointStates carry the sensor's frame too (empty in most drivers), so that its mount survives.

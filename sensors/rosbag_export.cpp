@@ -81,16 +81,20 @@ class BagWriter {
  public:
   BagWriter(rosbag::Bag& bag, TimeNs offset_ns) : bag_(bag), offset_ns_(offset_ns) {}
 
+  // The fix's velocity as a twist in ENU on its own topic (nmea_navsat_driver's /vel), at the
+  // fix's stamp and arrival; returns the datatype written.
+  std::string WriteGnssVelocity(const GnssFix& fix, const std::string& topic) {
+    GnssFix copy = fix;
+    copy.header = Shifted(fix.header);
+    return Put(bag_, topic, BagTime(copy.header),
+               ros1::GnssVelocityToRos(copy, fix.header.sensor_id));
+  }
+
   // Returns the datatype written.
   std::string Write(const Measurement& m, const std::string& topic) {
     const MeasurementHeader& h = HeaderOf(m);
-    MeasurementHeader shifted{h.sensor_id, h.stamp_ns + offset_ns_, h.arrival_ns + offset_ns_};
-    const ros::Time time = ros1::RosTime(shifted.arrival_ns);
-    if (time < ros::TIME_MIN) {
-      throw InputError(
-          "arrival 0 ns cannot be a ROS1 bag time (the earliest is 1 ns): give a "
-          "time offset");
-    }
+    const MeasurementHeader shifted = Shifted(h);
+    const ros::Time time = BagTime(shifted);
     const std::string& id = h.sensor_id;
     return std::visit(
         [&](const auto& x) -> std::string {
@@ -122,6 +126,19 @@ class BagWriter {
   }
 
  private:
+  MeasurementHeader Shifted(const MeasurementHeader& h) const {
+    return {h.sensor_id, h.stamp_ns + offset_ns_, h.arrival_ns + offset_ns_};
+  }
+  static ros::Time BagTime(const MeasurementHeader& shifted) {
+    const ros::Time time = ros1::RosTime(shifted.arrival_ns);
+    if (time < ros::TIME_MIN) {
+      throw InputError(
+          "arrival 0 ns cannot be a ROS1 bag time (the earliest is 1 ns): give a "
+          "time offset");
+    }
+    return time;
+  }
+
   rosbag::Bag& bag_;
   TimeNs offset_ns_;
 };
@@ -185,6 +202,25 @@ RosbagExportResult ExportRosbag(const fs::path& log_dir, const fs::path& bag_pat
       if (s.topic.empty()) continue;
       s.datatype = writer.Write(*m, s.topic);
       ++s.count;
+      if (const auto* fix = std::get_if<GnssFix>(&*m); fix && fix->velocity) {
+        // Sensor ids hold no '/': "<id>/vel" names no other stream.
+        const auto [v, first] = stream_of.emplace(id + "/vel", result.streams.size());
+        if (first) {
+          RosbagExportStream velocity;
+          velocity.id = id;
+          velocity.type = LogStreamType::kGnss;
+          velocity.topic = "/" + id + "/vel";
+          RosTopicEntry entry;
+          entry.topic = velocity.topic;
+          entry.id = id;
+          entry.kind = RosTopicKind::kGnssVelocity;
+          map.topics.push_back(entry);
+          result.streams.push_back(velocity);
+        }
+        RosbagExportStream& vs = result.streams[v->second];
+        vs.datatype = writer.WriteGnssVelocity(*fix, vs.topic);
+        ++vs.count;
+      }
     }
     if (reader.error()) result.error = *reader.error();
   } catch (const std::exception& e) {  // InputError, rosbag::BagException

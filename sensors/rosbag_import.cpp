@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "sensors/gnss_velocity_joiner.hpp"
 #include "sensors/log_writer.hpp"
 #include "sensors/ros1_bag.hpp"
 #include "sensors/ros1_messages.hpp"
@@ -122,6 +123,18 @@ Converted Convert(const rosbag::MessageInstance& m, const RosTopicEntry& e, Time
   return c;
 }
 
+// A gnss_velocity message: its stamp and the ENU velocity with sigmas.
+std::pair<TimeNs, GnssVelocity> ConvertGnssVelocity(const rosbag::MessageInstance& m,
+                                                    const RosTopicEntry& e, TimeNs offset_ns) {
+  if (m.getDataType() == "geometry_msgs/TwistStamped") {
+    const auto msg = Instantiate<geometry_msgs::TwistStamped>(m);
+    return {StampOf(msg->header, offset_ns), ros1::GnssVelocityFromRos(msg->twist, nullptr, e)};
+  }
+  const auto msg = Instantiate<geometry_msgs::TwistWithCovarianceStamped>(m);
+  return {StampOf(msg->header, offset_ns),
+          ros1::GnssVelocityFromRos(msg->twist.twist, &msg->twist.covariance, e)};
+}
+
 void SetHeader(Measurement& m, MeasurementHeader header) {
   std::visit([&header](auto& x) { x.header = std::move(header); }, m);
 }
@@ -158,8 +171,7 @@ void CheckMap(const RosTopicMap& map, const std::map<std::string, std::string>& 
   }
 }
 
-void Record(Stream& s, const Converted& c, const rosbag::MessageInstance& m, TimeNs offset_ns,
-            LogWriter& writer) {
+void Record(Stream& s, const Converted& c, TimeNs received_ns, LogWriter& writer) {
   const RosTopicEntry& e = *s.entry;
   const std::string frame = e.frame_id.value_or(c.frame_id);
   if (s.stats.count == 0) {
@@ -173,7 +185,6 @@ void Record(Stream& s, const Converted& c, const rosbag::MessageInstance& m, Tim
                      " ns is not after the previous message's " + std::to_string(*s.last_stamp_ns) +
                      " ns (stamps of a sensor must increase)");
   }
-  const TimeNs received_ns = static_cast<TimeNs>(m.getTime().toNSec()) + offset_ns;
   if (c.last_point_ns) {
     const TimeNs delay_ns = received_ns - *c.last_point_ns;
     s.max_delay_ns = std::max(s.max_delay_ns.value_or(delay_ns), delay_ns);
@@ -200,7 +211,7 @@ std::string SetupYaml(const RosTopicMap& map, const std::vector<Stream>& streams
                       std::optional<std::string>* missing) {
   std::vector<SensorMount> mounts;
   for (const Stream& s : streams) {
-    if (s.stats.count == 0) continue;
+    if (s.stats.count == 0 || s.entry->kind == RosTopicKind::kGnssVelocity) continue;
     SensorMount mount;
     mount.type = std::string(RosTopicKindName(s.entry->kind));
     mount.id = s.entry->id;
@@ -288,6 +299,13 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
   LogWriterOptions writer_options;
   writer_options.scenario = map.scenario.empty() ? bag_path.filename().string() : map.scenario;
   writer_options.origin = map.origin;
+  std::map<std::string, Stream*> velocity_stream_of;  // gnss id -> its gnss_velocity stream
+  for (Stream& s : streams) {
+    if (s.entry->kind != RosTopicKind::kGnssVelocity) continue;
+    velocity_stream_of[s.entry->id] = &s;
+    writer_options.gnss_velocity_ids.insert(s.entry->id);
+  }
+  GnssVelocityJoiner joiner;
   LogWriter writer(out_dir, writer_options);
   StaticTransformTree tree;
   const std::vector<std::string> topic_list(topics.begin(), topics.end());
@@ -310,16 +328,41 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
         }
         continue;
       }
+      const TimeNs received_ns = static_cast<TimeNs>(m.getTime().toNSec()) + options.time_offset_ns;
       for (Stream& s : streams) {
         if (s.entry->topic != m.getTopic()) continue;
+        if (s.entry->kind == RosTopicKind::kGnssVelocity) {
+          const auto [stamp_ns, velocity] =
+              ConvertGnssVelocity(m, *s.entry, options.time_offset_ns);
+          ++s.stats.skipped;  // until joined to a fix (below)
+          joiner.AddVelocity(s.entry->id, stamp_ns, velocity);
+          continue;
+        }
         const Converted c = Convert(m, *s.entry, options.time_offset_ns);
         if (!c.measurement) {
           ++s.stats.skipped;
           continue;
         }
         s.stats.skipped += c.skipped;
-        Record(s, c, m, options.time_offset_ns, writer);
+        const auto velocity_stream = velocity_stream_of.find(s.entry->id);
+        if (s.entry->kind != RosTopicKind::kGnss || velocity_stream == velocity_stream_of.end()) {
+          Record(s, c, received_ns, writer);
+          continue;
+        }
+        Stream& v = *velocity_stream->second;
+        joiner.AddFix(s.entry->id, c.stamp_ns, received_ns,
+                      [&s, &v, &writer, c, received_ns](const std::optional<GnssVelocity>& vel) {
+                        Converted joined = c;
+                        std::get<GnssFix>(*joined.measurement).velocity = vel;
+                        Record(s, joined, received_ns, writer);
+                        if (!vel) return;
+                        if (v.stats.count == 0) v.stats.first_stamp_ns = c.stamp_ns;
+                        v.stats.last_stamp_ns = c.stamp_ns;
+                        ++v.stats.count;
+                        --v.stats.skipped;
+                      });
       }
+      joiner.Advance(received_ns);
     }
   } catch (const std::exception& e) {  // InputError, rosbag::BagException
     std::string where = bag_path.string();
@@ -328,6 +371,11 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
                ", bag time " + ros1::BagTimeText(bag_time) + ")";
     }
     result.error = where + ": " + e.what();
+  }
+  try {  // the fixes still waiting for a velocity (also after an error: they came before it)
+    joiner.Flush();
+  } catch (const std::exception& e) {
+    if (!result.error) result.error = bag_path.string() + ": " + e.what();
   }
 
   for (const RosStaticTransform& s : map.static_transforms) {
@@ -340,7 +388,8 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
       // Divided (not multiplied by 1e-9): 30 ms gives exactly the double of "0.03".
       s.stats.latency_s = static_cast<double>(std::max<TimeNs>(*s.max_delay_ns, 0)) / 1e9;
     }
-    if (s.stats.count > 0 && s.stats.frame_id.empty() && !s.entry->T_body_sensor) {
+    if (s.stats.count > 0 && s.stats.frame_id.empty() && !s.entry->T_body_sensor &&
+        s.entry->kind != RosTopicKind::kGnssVelocity) {
       result.notes.push_back("topic '" + s.stats.topic +
                              "' has no frame_id: mounted at the base frame '" + map.base_frame +
                              "' (give frame_id or T_body_sensor in the topic map)");

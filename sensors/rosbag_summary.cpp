@@ -17,6 +17,9 @@ bool RosbagImportAccepts(RosTopicKind kind, const std::string& datatype) {
     case RosTopicKind::kSpeedEncoder:
       return datatype == "nav_msgs/Odometry" || datatype == "geometry_msgs/TwistStamped" ||
              datatype == "geometry_msgs/TwistWithCovarianceStamped";
+    case RosTopicKind::kGnssVelocity:
+      return datatype == "geometry_msgs/TwistStamped" ||
+             datatype == "geometry_msgs/TwistWithCovarianceStamped";
     case RosTopicKind::kSteeringEncoder:
     case RosTopicKind::kWheelEncoders:
       return datatype == "sensor_msgs/JointState";

@@ -1,5 +1,6 @@
 #include "sensors/rosbag_topic_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -10,7 +11,7 @@
 namespace statebench::sensors {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, RosTopicKind>, 7> kKinds = {{
+constexpr std::array<std::pair<std::string_view, RosTopicKind>, 8> kKinds = {{
     {"imu", RosTopicKind::kImu},
     {"gnss", RosTopicKind::kGnss},
     {"body_velocity", RosTopicKind::kBodyVelocity},
@@ -18,6 +19,7 @@ constexpr std::array<std::pair<std::string_view, RosTopicKind>, 7> kKinds = {{
     {"steering_encoder", RosTopicKind::kSteeringEncoder},
     {"wheel_encoders", RosTopicKind::kWheelEncoders},
     {"lidar", RosTopicKind::kLidar},
+    {"gnss_velocity", RosTopicKind::kGnssVelocity},
 }};
 
 RosTopicKind ParseKind(const YamlNode& node) {
@@ -44,6 +46,8 @@ std::vector<std::string_view> KindKeys(RosTopicKind kind) {
       return {"joints"};
     case RosTopicKind::kLidar:
       return {"time_field", "time_scale_s"};
+    case RosTopicKind::kGnssVelocity:
+      return {"velocity_sigma_mps"};
     default:
       return {};
   }
@@ -115,6 +119,10 @@ RosTopicEntry ParseTopic(const YamlNode& entry) {
   if (const auto s = entry.Find("position_sigma_m"); s && !s->IsNull()) {
     const std::vector<double> v = PositiveNumbers(*s, 3);
     t.position_sigma_m = Vec3(v[0], v[1], v[2]);
+  }
+  if (const auto s = entry.Find("velocity_sigma_mps"); s && !s->IsNull()) {
+    const std::vector<double> v = PositiveNumbers(*s, 3);
+    t.velocity_sigma_mps = Vec3(v[0], v[1], v[2]);
   }
   if (const auto s = entry.Find("twist_sigma"); s && !s->IsNull()) {
     const std::vector<double> v = PositiveNumbers(*s, 6);
@@ -211,11 +219,23 @@ RosTopicMap ParseRosTopicMap(const YamlNode& root) {
   const YamlNode topics = root["topics"];
   topics.ExpectSequence();
   if (topics.size() == 0) topics.Fail("at least one topic is required");
-  std::set<std::string> ids;
+  std::set<std::string> ids, velocity_ids;
   for (std::size_t i = 0; i < topics.size(); ++i) {
     RosTopicEntry t = ParseTopic(topics.At(i));
-    if (!ids.insert(t.id).second) topics.At(i)["id"].Fail("duplicate sensor id '" + t.id + "'");
+    std::set<std::string>& seen = t.kind == RosTopicKind::kGnssVelocity ? velocity_ids : ids;
+    if (!seen.insert(t.id).second) topics.At(i)["id"].Fail("duplicate sensor id '" + t.id + "'");
     map.topics.push_back(std::move(t));
+  }
+  for (std::size_t i = 0; i < map.topics.size(); ++i) {
+    const RosTopicEntry& t = map.topics[i];
+    if (t.kind != RosTopicKind::kGnssVelocity) continue;
+    const bool has_gnss = std::any_of(map.topics.begin(), map.topics.end(), [&](const auto& g) {
+      return g.kind == RosTopicKind::kGnss && g.id == t.id;
+    });
+    if (!has_gnss) {
+      topics.At(i)["id"].Fail("no gnss topic with id '" + t.id +
+                              "' (a gnss_velocity topic names the receiver it belongs to)");
+    }
   }
   if (const auto list = root.Find("static_transforms"); list && !list->IsNull()) {
     list->ExpectSequence();
@@ -247,6 +267,9 @@ std::string RosTopicMapYaml(const RosTopicMap& map, const std::string& header_co
       y += "    position_sigma_m: " + Numbers(t.position_sigma_m->data(), 3) + "\n";
     }
     if (t.twist_sigma) y += "    twist_sigma: " + Numbers(t.twist_sigma->data(), 6) + "\n";
+    if (t.velocity_sigma_mps) {
+      y += "    velocity_sigma_mps: " + Numbers(t.velocity_sigma_mps->data(), 3) + "\n";
+    }
     if (t.kind == RosTopicKind::kSteeringEncoder && t.joint != t.id) {
       y += "    joint: " + YamlQuoted(t.joint) + "\n";
     }

@@ -27,9 +27,13 @@ enum class RosTopicKind {
   kSteeringEncoder,  // sensor_msgs/JointState position of one joint -> steering/<id>.csv
   kWheelEncoders,    // sensor_msgs/JointState velocity of four joints -> wheels/<id>.csv
   kLidar,            // sensor_msgs/PointCloud2 -> lidar/<id>.csv + one PCD per sweep
+  // geometry_msgs/Twist(WithCovariance)Stamped in ENU (nmea_navsat_driver's /vel): the Doppler
+  // velocity of the gnss entry with the same id, joined to its fixes (velocity columns).
+  kGnssVelocity,
 };
 
-// "imu", "gnss", "body_velocity", "speed_encoder", "steering_encoder", "wheel_encoders", "lidar".
+// "imu", "gnss", "body_velocity", "speed_encoder", "steering_encoder", "wheel_encoders", "lidar",
+// "gnss_velocity".
 std::string_view RosTopicKindName(RosTopicKind kind);
 
 struct RosTopicEntry {
@@ -41,6 +45,7 @@ struct RosTopicEntry {
   std::optional<double> latency_s;       // instead of the largest receive - stamp delay
   std::optional<Vec3> position_sigma_m;  // gnss: replaces the fixes' covariance (east, north, up)
   std::optional<Vec6> twist_sigma;    // body_velocity: replaces the twist covariance (m/s, rad/s)
+  std::optional<Vec3> velocity_sigma_mps;  // gnss_velocity: replaces its covariance (E, N, U)
   std::string joint;                  // steering_encoder: joint name (default: the id)
   std::array<std::string, 4> joints;  // wheel_encoders: FL FR RL RR (default: <id>_fl ...)
   std::optional<std::string>
@@ -66,8 +71,9 @@ struct RosTopicMap {
 };
 
 // InputError naming file:line:column and field on: unknown key or type, missing topic or id,
-// duplicate id, an id that cannot name a file, an option of another type's topic, a sigma that is
-// not positive.
+// duplicate id (a gnss_velocity entry shares the id of its gnss entry, one per gnss), a
+// gnss_velocity without a gnss entry of its id, an id that cannot name a file, an option of
+// another type's topic, a sigma that is not positive.
 RosTopicMap LoadRosTopicMap(const std::filesystem::path& path);
 RosTopicMap ParseRosTopicMap(const YamlNode& root);
 

@@ -121,8 +121,9 @@ ImuOptions ParseImuOptions(const YamlNode& entry) {
 }
 
 GnssOptions ParseGnssOptions(const YamlNode& entry) {
-  ExpectEntryKeys(entry, {"mode", "cep_m", "vertical_sigma_m", "gauss_markov", "covariance_scale",
-                          "outages", "multipath", "degraded_accuracy", "min_satellites"});
+  ExpectEntryKeys(
+      entry, {"mode", "cep_m", "vertical_sigma_m", "gauss_markov", "covariance_scale", "outages",
+              "multipath", "degraded_accuracy", "min_satellites", "velocity"});
   GnssOptions o;
   if (const auto degraded = entry.Find("degraded_accuracy")) {
     degraded->ExpectOnlyKeys({"rtk_fixed", "rtk_float", "single"});
@@ -149,6 +150,12 @@ GnssOptions ParseGnssOptions(const YamlNode& entry) {
     o.multipath.events_per_hour = NonNegative((*mp)["events_per_hour"]);
     ReadOptional(*mp, "magnitude_m", &o.multipath.magnitude_m, NonNegative);
     ReadOptional(*mp, "duration_s", &o.multipath.duration_s, Positive);
+  }
+  if (const auto v = entry.Find("velocity")) {  // a map, possibly empty: Doppler velocity on
+    v->ExpectOnlyKeys({"horizontal_sigma_mps", "vertical_sigma_mps"});
+    o.velocity.enabled = true;
+    ReadOptional(*v, "horizontal_sigma_mps", &o.velocity.horizontal_sigma_mps, NonNegative);
+    ReadOptional(*v, "vertical_sigma_mps", &o.velocity.vertical_sigma_mps, NonNegative);
   }
   if (const auto sats = entry.Find("min_satellites")) {
     sats->ExpectOnlyKeys({"rtk_fixed", "rtk_float", "single"});

@@ -69,6 +69,38 @@ TEST(BodyVelocityFactor, ZeroResidualAtTheTruth) {
   EXPECT_GT((Evaluate(*g, a) / 10.0).norm(), 1e-2);
 }
 
+// A GNSS receiver's Doppler velocity of its antenna, in ENU (Frame::kWorld): v + R (w x l) at
+// the stamp, 70 ms after the state, zero residual at the truth; the lever-arm term counts.
+TEST(BodyVelocityFactor, GnssVelocityInTheWorldFrameIsZeroAtTheTruth) {
+  const HelixTrajectory helix;
+  const ImuBias bias{Vec3(0.003, -0.002, 0.001), Vec3(0.05, -0.04, 0.08)};
+  const auto samples = Samples(bias);
+  const TimeNs t_a = FromSeconds(2.0), t = FromSeconds(2.07);
+  BodyVelocityMeasurement m;
+  m.frame = BodyVelocityMeasurement::Frame::kWorld;
+  m.p_imu_point = Vec3(0.45, 0.0, 1.5);  // antenna lever arm
+  m.sqrt_information = Vec3(1 / 0.07, 1 / 0.07, 1 / 0.12).asDiagonal();
+  m.gyro_raw = helix.Gyro(ToSeconds(t)) + bias.gyro;
+  const NavState truth = helix.State(t);
+  m.v_frame = truth.v_world + truth.q_world_imu * helix.Gyro(ToSeconds(t)).cross(m.p_imu_point);
+  const auto propagation = ImuPreintegration::FromSamples(samples, t_a, t, ImuNoise{}, bias);
+  const std::unique_ptr<ceres::CostFunction> f(CreateBodyVelocityFactor(m, propagation));
+  NavState a = helix.State(t_a);
+  a.gyro_bias = bias.gyro;
+  a.accel_bias = bias.accel;
+  const Vec3 r = Evaluate(*f, a);
+  std::printf("gnss velocity 70 ms after the state: whitened residual %.2e\n", r.norm());
+  EXPECT_LT(r.norm(), 1e-4);
+  // The lever-arm term is in: without it the residual is exactly -S R (w x l).
+  BodyVelocityMeasurement no_lever = m;
+  no_lever.p_imu_point = Vec3::Zero();
+  const std::unique_ptr<ceres::CostFunction> g(CreateBodyVelocityFactor(no_lever, propagation));
+  const Vec3 lever_term =
+      m.sqrt_information * (truth.q_world_imu * helix.Gyro(ToSeconds(t)).cross(m.p_imu_point));
+  EXPECT_LT((Evaluate(*g, a) + lever_term).norm(), 1e-4);
+  EXPECT_GT(lever_term.norm(), 0.1);
+}
+
 TEST(BodyVelocityFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
   const HelixTrajectory helix;
   const RightQuaternionManifold q_manifold;
@@ -77,30 +109,34 @@ TEST(BodyVelocityFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
   const auto r3 = [&] { return Vec3(normal(rng), normal(rng), normal(rng)); };
   const auto samples = Samples(ImuBias{});
   double worst = 0.0;
-  for (double tau : {0.0, 0.043, 0.3}) {
-    const TimeNs t_a = FromSeconds(1.0);
-    BodyVelocityMeasurement m;
-    m.p_imu_point = r3();
-    m.q_imu_frame = so3::Exp<double>(r3());
-    m.v_frame = r3();
-    m.gyro_raw = r3();
-    m.sqrt_information = Vec3(0.0, 10.0, 20.0).asDiagonal();  // non-holonomic: y and z only
-    m.sqrt_information(0, 0) = tau > 0.1 ? 5.0 : 0.0;
-    const std::unique_ptr<ceres::CostFunction> f(CreateBodyVelocityFactor(
-        m, ImuPreintegration::FromSamples(samples, t_a, t_a + FromSeconds(tau), ImuNoise{},
-                                          ImuBias{Vec3(0.001, 0.0, 0.0), Vec3(0.0, 0.02, 0.0)})));
-    for (int trial = 0; trial < 5; ++trial) {
-      NavState x = helix.State(t_a);
-      x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-      x.v_world += r3();
-      x.gyro_bias = 0.01 * r3();
-      x.accel_bias = 0.1 * r3();
-      const auto check =
-          testing::CheckJacobians(*f, Blocks(x), {&q_manifold, nullptr, nullptr}, 1e-6);
-      worst = std::max(worst, check.worst_relative_error);
+  using Frame = BodyVelocityMeasurement::Frame;
+  for (const Frame frame : {Frame::kVehicle, Frame::kWorld}) {
+    for (double tau : {0.0, 0.043, 0.3}) {
+      const TimeNs t_a = FromSeconds(1.0);
+      BodyVelocityMeasurement m;
+      m.frame = frame;
+      m.p_imu_point = r3();
+      m.q_imu_frame = so3::Exp<double>(r3());
+      m.v_frame = r3();
+      m.gyro_raw = r3();
+      m.sqrt_information = Vec3(0.0, 10.0, 20.0).asDiagonal();  // non-holonomic: y and z only
+      m.sqrt_information(0, 0) = tau > 0.1 ? 5.0 : 0.0;
+      const std::unique_ptr<ceres::CostFunction> f(CreateBodyVelocityFactor(
+          m, ImuPreintegration::FromSamples(samples, t_a, t_a + FromSeconds(tau), ImuNoise{},
+                                            ImuBias{Vec3(0.001, 0.0, 0.0), Vec3(0.0, 0.02, 0.0)})));
+      for (int trial = 0; trial < 5; ++trial) {
+        NavState x = helix.State(t_a);
+        x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
+        x.v_world += r3();
+        x.gyro_bias = 0.01 * r3();
+        x.accel_bias = 0.1 * r3();
+        const auto check =
+            testing::CheckJacobians(*f, Blocks(x), {&q_manifold, nullptr, nullptr}, 1e-6);
+        worst = std::max(worst, check.worst_relative_error);
+      }
     }
   }
-  std::printf("body velocity factor: worst relative Jacobian error %.2e\n", worst);
+  std::printf("body and gnss velocity factor: worst relative Jacobian error %.2e\n", worst);
   EXPECT_LT(worst, 1e-6);
 }
 

@@ -44,6 +44,10 @@ struct ScenarioOptions {
   double gnss_latency_s = 0.1;
   double gnss_extra_latency_s = 0.0;  // uniform in [0, this): out-of-order delivery
   double outage_begin_s = 1e9, outage_end_s = 1e9;
+  // Doppler velocity of the antenna (v + R (w x l)) with white noise of these sigmas, reported
+  // as they are; drawn from its own stream, so turning it on leaves the other bits unchanged.
+  bool gnss_velocity = false;
+  double velocity_sigma_h = 0.07, velocity_sigma_v = 0.12;
   std::uint64_t seed = 1;
 };
 
@@ -59,6 +63,8 @@ inline Scenario MakeScenario(const ScenarioOptions& o) {
   Scenario sc{o, VehicleTrajectory(o.motion_start_s), {}};
   auto rng = MakeRng(o.seed, "estimator_scenario");
   auto latency_rng = MakeRng(o.seed, "estimator_scenario_latency");
+  auto velocity_rng = MakeRng(o.seed, "estimator_scenario_velocity");
+  NormalSampler velocity_normal;
   NormalSampler normal;
   const auto r3 = [&] { return Vec3(normal(rng), normal(rng), normal(rng)); };
   const LocalEnuFrame frame(kTestOrigin);
@@ -104,6 +110,13 @@ inline Scenario MakeScenario(const ScenarioOptions& o) {
       fix.covariance_enu.diagonal() << o.reported_sigma_h * o.reported_sigma_h,
           o.reported_sigma_h * o.reported_sigma_h, o.reported_sigma_v * o.reported_sigma_v;
       fix.status = GnssFixStatus::kRtkFixed;
+      if (o.gnss_velocity) {
+        GnssVelocity v;
+        v.sigma_enu = Vec3(o.velocity_sigma_h, o.velocity_sigma_h, o.velocity_sigma_v);
+        v.v_enu = truth.v_world + truth.q_world_imu * sc.trajectory.Gyro(t).cross(a.p_imu);
+        for (int i = 0; i < 3; ++i) v.v_enu[i] += v.sigma_enu[i] * velocity_normal(velocity_rng);
+        fix.velocity = v;
+      }
       sc.stream.push_back(fix);
     }
   }

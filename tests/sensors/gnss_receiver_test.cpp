@@ -275,5 +275,53 @@ TEST(GnssReceiver, FewerSatellitesDegradeTheFix) {
   EXPECT_EQ(float_receiver.Sample(testing::StaticTruth(0))->status, GnssFixStatus::kRtkFloat);
 }
 
+// Doppler velocity (off by default): the antenna's velocity v + R (w x l) plus white noise of
+// the configured sigmas, reported as sigma x sqrt(covariance_scale); turning it on leaves the
+// position bits unchanged (own random stream).
+TEST(GnssReceiver, DopplerVelocityOfTheAntenna) {
+  const LocalEnuFrame frame(kOrigin);
+  const SensorSpec spec = AntennaSpec(4.0);
+  GnssOptions plain;
+  plain.mode = GnssMode::kSingle;
+  GnssOptions doppler = plain;
+  doppler.velocity.enabled = true;
+  doppler.covariance_scale = 4.0;
+  GnssOptions doppler_same_scale = doppler;
+  doppler_same_scale.covariance_scale = 1.0;
+  GnssReceiver a(spec, plain, frame, 7), b(spec, doppler_same_scale, frame, 7);
+  GnssReceiver c(spec, doppler, frame, 7);
+  Vec3 sum = Vec3::Zero(), sum2 = Vec3::Zero();
+  const int n = 4000;
+  for (int k = 0; k < n; ++k) {
+    TruthSample truth = testing::StaticTruth(k * spec.PeriodNs(), Vec3(10.0, 20.0, 1.0), 0.4);
+    truth.body.v_world = Vec3(8.0 * std::cos(0.4), 8.0 * std::sin(0.4), 0.1);
+    truth.body.omega_frame = Vec3(0.0, 0.02, 0.3);
+    const auto fa = a.Sample(truth), fb = b.Sample(truth), fc = c.Sample(truth);
+    ASSERT_TRUE(fa && fb && fc);
+    EXPECT_FALSE(fa->velocity.has_value());
+    ASSERT_TRUE(fb->velocity.has_value());
+    EXPECT_EQ(fa->latitude_deg, fb->latitude_deg);
+    EXPECT_EQ(fa->altitude_m, fb->altitude_m);
+    const Vec3 expected = truth.body.AtMount(spec.T_body_sensor).v_world;
+    const Vec3 e = fb->velocity->v_enu - expected;
+    sum += e;
+    sum2 += e.cwiseAbs2();
+    EXPECT_EQ(fb->velocity->sigma_enu, Vec3(0.07, 0.07, 0.12));
+    EXPECT_EQ(fc->velocity->sigma_enu, Vec3(0.14, 0.14, 0.24));
+  }
+  const Vec3 mean = sum / n;
+  const Vec3 sigma = (sum2 / n - mean.cwiseAbs2()).cwiseSqrt();
+  std::printf("doppler velocity error: mean %.4f %.4f %.4f, sigma %.4f %.4f %.4f m/s\n", mean.x(),
+              mean.y(), mean.z(), sigma.x(), sigma.y(), sigma.z());
+  EXPECT_LT(mean.cwiseAbs().maxCoeff(), 0.01);
+  EXPECT_NEAR(sigma.x(), 0.07, 0.005);
+  EXPECT_NEAR(sigma.y(), 0.07, 0.005);
+  EXPECT_NEAR(sigma.z(), 0.12, 0.008);
+  // The lever arm term is in: 0.3 rad/s about z with the antenna 0.45 m ahead moves it sideways.
+  TruthSample turning = testing::StaticTruth(0, Vec3::Zero(), 0.0);
+  turning.body.omega_frame = Vec3(0.0, 0.0, 0.3);
+  EXPECT_NEAR(turning.body.AtMount(spec.T_body_sensor).v_world.y(), 0.3 * 0.45, 1e-12);
+}
+
 }  // namespace
 }  // namespace statebench::sensors

@@ -127,6 +127,38 @@ TEST(LogBadInput, TimestampGoingBackwards) {
   ExpectSameStream(read, log.PrefixThrough("gnss_front", 6));
 }
 
+// gnss_front's file has the velocity columns (every other fix has a velocity: lines 2, 4, ...).
+TEST(LogBadInput, GnssVelocityCellsAreAllNumbersOrAllEmpty) {
+  BadLog log("velocity_half_empty");
+  log.SetCell("gnss/gnss_front.csv", 6, 16, "");  // the 5th fix loses vn but keeps the rest
+  const auto [read, error] = ReadAll(log.dir.path());
+  EXPECT_NE(error.find("gnss/gnss_front.csv:6: column 'vn [m s^-1]': missing value"),
+            std::string::npos)
+      << error;
+  ExpectSameStream(read, log.PrefixThrough("gnss_front", 4));
+}
+
+TEST(LogBadInput, GnssVelocitySigmaMustBePositive) {
+  BadLog log("velocity_sigma");
+  log.SetCell("gnss/gnss_front.csv", 4, 20, "0");
+  const auto [read, error] = ReadAll(log.dir.path());
+  EXPECT_NE(error.find("gnss/gnss_front.csv:4: column 'sigma_vu [m s^-1]': must be > 0"),
+            std::string::npos)
+      << error;
+}
+
+TEST(LogBadInput, UnknownExtraGnssColumn) {
+  BadLog log("gnss_extra_column");
+  std::vector<std::string> lines = log.Lines("gnss/gnss_rear.csv");
+  lines[0] += ",speed [m s^-1]";
+  log.Rewrite("gnss/gnss_rear.csv", lines);
+  const auto [read, error] = ReadAll(log.dir.path());
+  EXPECT_NE(error.find("gnss/gnss_rear.csv:1: unexpected column 'speed [m s^-1]' at position 16"),
+            std::string::npos)
+      << error;
+  EXPECT_TRUE(read.empty());
+}
+
 TEST(LogBadInput, TruncatedPcdNamesThePcdAndItsIndexLine) {
   BadLog log("truncated_pcd", LidarFileFormat::kPcd);
   const std::filesystem::path pcd = log.dir.path() / "lidar/lidar/400000000.pcd";  // 5th sweep

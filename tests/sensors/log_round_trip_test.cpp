@@ -146,6 +146,17 @@ TEST(LogRoundTrip, PcdFilesAreReadableAsPlainPcd) {
   EXPECT_TRUE(ReadLidarPcd(dir.path() / "empty.pcd").empty());
 }
 
+GnssFix SingleFix(const char* id, TimeNs t_ns) {
+  GnssFix fix;
+  fix.header = {id, t_ns, t_ns + 10};
+  fix.latitude_deg = 48.0;
+  fix.longitude_deg = 2.0;
+  fix.altitude_m = 100.0;
+  fix.covariance_enu = Mat3::Identity();
+  fix.status = GnssFixStatus::kSingle;
+  return fix;
+}
+
 TEST(LogWriter, RejectsWhatCouldNotBeReadBack) {
   testing::TempLogDir dir("writer_checks");
   LogWriter writer(dir.path(), {});
@@ -155,8 +166,51 @@ TEST(LogWriter, RejectsWhatCouldNotBeReadBack) {
   EXPECT_THROW(writer.Write(SteeringAngle{{"speed", 40, 50}, 0.1}), InputError);  // other type
   EXPECT_THROW(writer.Write(SteeringAngle{{"a/b", 40, 50}, 0.1}), InputError);    // not a name
   EXPECT_THROW(writer.WriteTruth(TruthSample{}), InputError);  // no truth mount given
+  // A gnss file takes its columns from its first fix: a velocity after fixes without one needs
+  // the sensor in gnss_velocity_ids.
+  GnssFix fix = SingleFix("gnss", 10);
+  writer.Write(fix);
+  fix.header = {"gnss", 20, 30};
+  fix.velocity = GnssVelocity{Vec3(1.0, 2.0, 0.0), Vec3(0.1, 0.1, 0.2)};
+  EXPECT_THROW(writer.Write(fix), InputError);
   writer.Close();
   EXPECT_THROW(LogWriter(dir.path(), {}), InputError);  // a log is already there
+}
+
+// A gnss file without the velocity columns (every log written before them) reads as before;
+// gnss_velocity_ids gives a file the columns from its first fix on.
+TEST(LogWriter, GnssVelocityColumnsOnlyWhereAsked) {
+  testing::TempLogDir dir("gnss_velocity_ids");
+  LogWriterOptions options;
+  options.gnss_velocity_ids = {"late"};
+  LogWriter writer(dir.path(), options);
+  GnssFix fix = SingleFix("plain", 10);
+  writer.Write(fix);
+  fix.header = {"late", 10, 20};
+  writer.Write(fix);
+  fix.header = {"late", 20, 30};
+  fix.velocity = GnssVelocity{Vec3(1.0, 2.0, 0.0), Vec3(0.1, 0.1, 0.2)};
+  writer.Write(fix);
+  writer.Close();
+  std::ifstream plain(dir.path() / "gnss/plain.csv");
+  std::string header;
+  std::getline(plain, header);
+  EXPECT_EQ(header.find("ve [m s^-1]"), std::string::npos) << header;
+  LogReader reader(dir.path());
+  const std::vector<Measurement> read = ReadAll(reader);
+  EXPECT_FALSE(reader.error().has_value()) << *reader.error();
+  ASSERT_EQ(read.size(), 3u);
+  int with_velocity = 0;
+  for (const Measurement& m : read) {
+    const auto& f = std::get<GnssFix>(m);
+    if (f.velocity) {
+      ++with_velocity;
+      EXPECT_EQ(f.header.sensor_id, "late");
+      EXPECT_EQ(f.velocity->v_enu, Vec3(1.0, 2.0, 0.0));
+      EXPECT_EQ(f.velocity->sigma_enu, Vec3(0.1, 0.1, 0.2));
+    }
+  }
+  EXPECT_EQ(with_velocity, 1);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/random.hpp"
@@ -61,7 +62,8 @@ class AnyBits {
   std::mt19937_64 rng_;
 };
 
-// `seconds` of: IMU 100 Hz, two GNSS antennas and a heading at 10 Hz, wheels, speed and
+// `seconds` of: IMU 100 Hz, two GNSS antennas (the front one with a velocity at every other
+// fix) and a heading at 10 Hz, wheels, speed and
 // steering at 50 Hz, body velocity at 20 Hz, a lidar at 10 Hz (`points_per_scan` points, the
 // second sweep empty). Latencies make the arrival order differ from the stamp order.
 inline std::vector<Measurement> SyntheticStream(double seconds, std::uint64_t seed,
@@ -91,12 +93,20 @@ inline std::vector<Measurement> SyntheticStream(double seconds, std::uint64_t se
     }
     if (t % (100 * kNsPerMillisecond) == 0) {
       for (const char* id : {"gnss_front", "gnss_rear"}) {
-        GnssFix f{header(id, t, 100)};
+        GnssFix f;
+        f.header = header(id, t, 100);
         f.latitude_deg = 48.0 + 1e-3 * std::fmod(std::abs(bits.Double()), 1.0);
         f.longitude_deg = bits.Double();
         f.altitude_m = bits.Double();
         for (int i = 0; i < 9; ++i) f.covariance_enu.data()[i] = bits.Double();
         f.status = static_cast<GnssFixStatus>((t / (100 * kNsPerMillisecond)) % 4);
+        // The front receiver gives a Doppler velocity at every other fix (the first one too,
+        // so its file has the velocity columns): empty velocity cells in between.
+        if (std::string_view(id) == "gnss_front" && t % (200 * kNsPerMillisecond) == 0) {
+          f.velocity = GnssVelocity{
+              Vec3(bits.Double(), bits.Double(), bits.Double()),
+              Vec3(bits.Double(), bits.Double(), bits.Double()).cwiseAbs().cwiseMax(1e-3)};
+        }
         out.push_back(f);
       }
       out.push_back(DualAntennaHeading{header("gnss_heading", t, 100), bits.Double(), bits.Double(),

@@ -36,6 +36,11 @@ inline std::string MeasurementBytes(const Measurement& m) {
           AppendRawBytes(x.altitude_m, &out);
           AppendRawBytes(x.covariance_enu, &out);
           AppendRawBytes(x.status, &out);
+          out += x.velocity ? 'v' : '-';
+          if (x.velocity) {
+            AppendRawBytes(x.velocity->v_enu, &out);
+            AppendRawBytes(x.velocity->sigma_enu, &out);
+          }
         } else if constexpr (std::is_same_v<T, DualAntennaHeading>) {
           AppendRawBytes(x.yaw_rad, &out);
           AppendRawBytes(x.pitch_rad, &out);

@@ -63,13 +63,19 @@ std::vector<Measurement> ValidStream(std::uint64_t seed) {
     }
     if (t % (100 * kNsPerMillisecond) == 0) {
       const int k = static_cast<int>(t / (100 * kNsPerMillisecond));
-      GnssFix f{header("gnss", t, 100)};
+      GnssFix f;
+      f.header = header("gnss", t, 100);
       f.latitude_deg = std::fmod(bits.Double(), 90.0);
       f.longitude_deg = std::fmod(bits.Double(), 180.0);
       f.altitude_m = bits.Double();
       f.status = static_cast<GnssFixStatus>(k % 4);
       const bool fixed = f.status == GnssFixStatus::kRtkFixed;
       f.covariance_enu = fixed ? Covariance<3>(rng, 1e-6, 9e-3) : Covariance<3>(rng, 0.011, 9.0);
+      if (k % 3 != 2) {  // a Doppler velocity at two fixes of three (the first one too)
+        std::uniform_real_distribution<double> sigma(0.01, 1.0);
+        f.velocity = GnssVelocity{Vec3(bits.Double(), bits.Double(), bits.Double()),
+                                  Vec3(sigma(rng), sigma(rng), sigma(rng))};
+      }
       out.push_back(f);
       out.push_back(DualAntennaHeading{header("heading", t, 100), 0.1, 0.0, 0.01, 0.02});
       LidarScan scan{header("lidar", t, 120), nullptr};
@@ -129,11 +135,23 @@ TEST(RosbagRoundTrip, ExportThenImportGivesTheSameLog) {
   EXPECT_EQ(by_id.at("imu").datatype, "sensor_msgs/Imu");
   EXPECT_EQ(by_id.at("radar").datatype, "geometry_msgs/TwistWithCovarianceStamped");
   EXPECT_EQ(by_id.at("steering").datatype, "sensor_msgs/JointState");
+  std::size_t velocities = 0;
+  for (const RosbagExportStream& s : exported.streams) {
+    if (s.topic != "/gnss/vel") continue;
+    EXPECT_EQ(s.datatype, "geometry_msgs/TwistWithCovarianceStamped");
+    velocities = s.count;
+  }
+  EXPECT_EQ(velocities, 14u);  // 21 fixes, every third without
 
   const RosbagImportResult imported =
       ImportRosbag(dir.path() / "log.bag", exported.topic_map, dir.path() / "back");
   ASSERT_FALSE(imported.error.has_value()) << *imported.error;
   EXPECT_TRUE(imported.unmapped.empty());
+  for (const RosbagImportStream& s : imported.streams) {
+    if (s.kind != RosTopicKind::kGnssVelocity) continue;
+    EXPECT_EQ(s.count, 14u);  // each joined to its fix
+    EXPECT_EQ(s.skipped, 0u);
+  }
 
   std::vector<Measurement> expected;
   for (const Measurement& m : written) {
