@@ -59,6 +59,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
           {"initialization", d.initialization},
           {"waiting_for", d.waiting_for.empty() ? nlohmann::json() : nlohmann::json(d.waiting_for)},
+          {"warnings", d.warnings},
           {"lost", lost},
           {"sensors", sensors},
           {"updates",

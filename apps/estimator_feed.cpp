@@ -20,6 +20,10 @@ void EstimatorFeed::Add(std::string label, std::string type, const std::filesyst
   e.estimator = std::move(estimator);
   e.inputs = std::move(inputs);
   e.writer = std::make_unique<reports::EstimateWriter>(dir, full_covariance);
+  // What the estimator lacks in this setup, before it runs (also in diagnostics.json).
+  for (const std::string& w : e.estimator->diagnostics().warnings) {
+    std::fprintf(stderr, "warning: %s: %s\n", e.label.c_str(), w.c_str());
+  }
   estimators_.push_back(std::move(e));
 }
 

@@ -14,7 +14,9 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "apps/cli_args.hpp"
 #include "apps/command_support.hpp"
@@ -24,6 +26,7 @@
 #include "apps/stage_cache_options.hpp"
 #include "apps/sweep_expansion.hpp"
 #include "apps/sweep_run_record.hpp"
+#include "apps/sweep_schedule.hpp"
 #include "core/error.hpp"
 #include "reports/results_store.hpp"
 #include "simulator/xml_scan.hpp"
@@ -186,7 +189,13 @@ int RunSweep(const std::vector<std::string>& argv) {
                  store_file.c_str());
     ProgressBar bar("sweep " + spec.name);
     ProcessPool pool;
-    std::size_t next = 0, done = 0, failed = 0;
+    // Without the cache nothing is shared: every run is its own group.
+    std::vector<std::string> groups;
+    for (const SweepRun* run : todo) {
+      groups.push_back(args.Flag("no-cache") ? run->id : run->simulation_group);
+    }
+    SweepSchedule schedule(std::move(groups));
+    std::size_t done = 0, failed = 0;
     double child_wall_s = 0.0, store_s = 0.0;
     std::vector<std::string> failures;
     std::map<std::string, StageCache::Counts> cache_totals;
@@ -204,9 +213,11 @@ int RunSweep(const std::vector<std::string>& argv) {
              ", ETA " + eta;
     };
     bar.Update(0.0, detail());
-    while (next < todo.size() || pool.running() > 0) {
-      while (next < todo.size() && pool.running() < static_cast<std::size_t>(jobs)) {
-        const SweepRun& run = *todo[next];
+    while (!schedule.AllStarted() || pool.running() > 0) {
+      while (pool.running() < static_cast<std::size_t>(jobs)) {
+        const std::optional<std::size_t> next = schedule.Next();
+        if (!next) break;
+        const SweepRun& run = *todo[*next];
         const fs::path dir = out_dir / "runs" / run.id;
         std::error_code ec;
         fs::remove_all(dir, ec);  // an interrupted attempt
@@ -220,11 +231,11 @@ int RunSweep(const std::vector<std::string>& argv) {
         }
         // `statebench run` in a child process forked from this one (libsumo: one simulation
         // per process; a crash stays in its run), without loading the program again.
-        pool.StartFunction(next, [run_args] { return RunRun(run_args); }, dir / "stdout.log",
+        pool.StartFunction(*next, [run_args] { return RunRun(run_args); }, dir / "stdout.log",
                            dir / "stderr.log");
-        ++next;
       }
       const ChildExit exit = pool.WaitAny();
+      schedule.Finished(exit.token);
       const SweepRun& run = *todo[exit.token];
       child_wall_s += exit.wall_s;
       const double store_start = MonotonicSeconds();

@@ -200,6 +200,12 @@ std::vector<SweepRun> ExpandSweep(const SweepSpec& spec, const std::string& code
                            ", seed " + std::to_string(seed) + " is not a valid scenario: " +
                            FirstLine(e.what()));
         }
+        YAML::Node simulated = YAML::Clone(resolved);
+        simulated.remove("estimators");
+        run.simulation_group = Sha256()
+                                   .Field("simulation group v1")
+                                   .Field(sim::ScenarioFingerprint(simulated))
+                                   .Hex();
         run.id = Sha256()
                      .Field("sweep run v1")
                      .Field(code_version)

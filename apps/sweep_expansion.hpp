@@ -27,6 +27,9 @@ struct SweepRun {
   std::vector<std::pair<std::string, std::string>> parameters;  // axis name, value as text
   std::vector<std::string> estimators;                          // labels
   std::string scenario_yaml;  // what `statebench run` runs
+  // Equal for runs that differ only in their estimators: they simulate the same (SUMO, sensors,
+  // faults, mismatch) and share every cached stage (sweep_schedule.hpp).
+  std::string simulation_group;
 };
 
 // Throws InputError naming the sweep file's line when an axis path does not exist in a base

@@ -178,6 +178,38 @@ class OptionTable {
     return Flag(std::move(name), Member(m), std::move(doc));
   }
 
+  // One of named values (an enum), listed in `choices` in the order the docs give them.
+  template <typename T>
+  OptionTable& Choice(std::string name, T Options::*m,
+                      std::vector<std::pair<std::string, T>> choices, std::string doc) {
+    Field f = Named(std::move(name), std::move(doc));
+    std::string expected, range;
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+      const bool last = i + 1 == choices.size();
+      expected += (i == 0 ? "" : last ? " or " : ", ") + choices[i].first;
+      range += (i == 0 ? "" : ", ") + choices[i].first;
+    }
+    f.read = [m, choices, expected, leaf = f.name](const YamlNode& n, Options* o) {
+      const std::string v = n.As<std::string>();
+      for (const auto& [text, value] : choices) {
+        if (v == text) {
+          o->*m = value;
+          return;
+        }
+      }
+      n.Fail("unknown " + leaf + " '" + v + "' (expected " + expected + ")");
+    };
+    f.show = [m, choices](const Options& o) {
+      for (const auto& [text, value] : choices) {
+        if (o.*m == value) return text;
+      }
+      return std::string("?");
+    };
+    f.range = std::move(range);
+    fields_.push_back(std::move(f));
+    return *this;
+  }
+
   // Any other value (an enum, an optional, a map): `read` parses and validates the node (and
   // fails on it), `show` prints the value for the docs, `range` says what is allowed.
   OptionTable& Custom(std::string name, std::function<void(const YamlNode&, Options*)> read,

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "estimator/ekf_filter_impl.hpp"
+#include "estimator/ekf_input_check.hpp"
 #include "estimator/estimate_status.hpp"
 #include "estimator/ekf_output_mapping.hpp"
 #include "estimator/measurement_checks.hpp"
@@ -65,6 +66,7 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
     throw InputError(setup.source + ": the ekf estimator needs a GNSS antenna in the setup");
   }
   model.emplace(options, p_body_imu, has_steering);
+  diag.warnings = EkfInputWarnings(setup, options.vehicle);
 }
 
 void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInfo& info,

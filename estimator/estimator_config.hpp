@@ -27,6 +27,7 @@
 #include "estimator/motion_factor_options.hpp"
 #include "estimator/output_blend.hpp"
 #include "estimator/robust_kernel.hpp"
+#include "estimator/window_solver.hpp"
 
 namespace statebench::est {
 
@@ -160,6 +161,7 @@ struct FactorGraphOptions {
   std::optional<double> reorder_latency_s;
   int max_iterations = 10;
   int num_threads = 1;
+  WindowSolver solver = WindowSolver::kCeres;  // sliding_window_smoother.hpp
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   InitializationOptions initialization;

@@ -140,6 +140,10 @@ struct EstimatorDiagnostics {
   // period of 1 s (quietest window: gyro std 0.04 rad/s > 0.01) and no GNSS course (2 fixes)".
   // Empty while it has a state.
   std::string waiting_for;
+  // What the estimator lacks or takes on trust in its setup, known before it runs (e.g. the
+  // EKF without a speed input, or with a vehicle file whose axles are not where the encoders
+  // are). One sentence each.
+  std::vector<std::string> warnings;
   // Times the estimator found itself lost and started over from the sensors (every GNSS fix
   // gated out for longer than gate_reset_s while the fixes agreed with each other, or an IMU
   // gap), and how it re-initialised each time.

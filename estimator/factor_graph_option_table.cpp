@@ -63,26 +63,11 @@ OptionTable<GnssCalibrationUncertainty> GnssCalibrationTable() {
 OptionTable<InitializationOptions> InitializationTable() {
   using I = InitializationOptions;
   OptionTable<I> t("initialization");
-  t.Custom(
-      "mode",
-      [](const YamlNode& n, I* o) {
-        const std::string m = n.As<std::string>();
-        if (m == "auto") {
-          o->mode = InitializationMode::kAuto;
-        } else if (m == "static") {
-          o->mode = InitializationMode::kStatic;
-        } else if (m == "moving") {
-          o->mode = InitializationMode::kMoving;
-        } else {
-          n.Fail("unknown mode '" + m + "' (expected auto, static or moving)");
-        }
-      },
-      [](const I& o) {
-        return std::string(o.mode == InitializationMode::kAuto     ? "auto"
-                           : o.mode == InitializationMode::kStatic ? "static"
-                                                                   : "moving");
-      },
-      "auto, static, moving", "wait for a still period, or start while moving, or either");
+  t.Choice("mode", &I::mode,
+           {{"auto", InitializationMode::kAuto},
+            {"static", InitializationMode::kStatic},
+            {"moving", InitializationMode::kMoving}},
+           "wait for a still period, or start while moving, or either");
   const Range p = Range::Positive();
   t.Number("static_duration_s", &I::static_duration_s, p, "still period averaged")
       .Number("static_max_gyro_std_radps", &I::static_max_gyro_std_radps, p,
@@ -254,6 +239,9 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
           "auto or >= 0", "hold measurements this long to feed them in stamp order")
       .Integer("max_iterations", &F::max_iterations, 1, "Ceres iterations per solve")
       .Integer("num_threads", &F::num_threads, 1, "Ceres threads")
+      .Choice("solver", &F::solver,
+              {{"ceres", WindowSolver::kCeres}, {"chain", WindowSolver::kChain}},
+              "ceres::Solve, or the same Levenberg-Marquardt on the window's chain structure")
       .Custom(
           "origin",
           [](const YamlNode& n, F* o) {

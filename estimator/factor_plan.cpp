@@ -16,6 +16,7 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   s.heading_kernel = o.heading.kernel;
   s.max_iterations = o.max_iterations;
   s.num_threads = o.num_threads;
+  s.solver = o.solver;
   return s;
 }
 

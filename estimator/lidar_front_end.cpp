@@ -100,23 +100,26 @@ void LidarFrontEnd::Process(const Measurement& m) {
     if (!shared_) return;  // a shared odometry registers every scan (the factors wait)
   }
   if (!merger_) {
-    waiting_.push_back(scan);
+    waiting_.push_back({scan, SweepEnd(scan)});
   } else {
     // Several lidars: counted here, registered as one merged scan (under the first id).
     if (ctx_.initialized) ctx_.Accept(id, scan.header.stamp_ns);
-    for (LidarScan& merged : merger_->Add(scan)) waiting_.push_back(std::move(merged));
+    for (LidarScan& merged : merger_->Add(scan)) {
+      const TimeNs end_ns = SweepEnd(merged);
+      waiting_.push_back({std::move(merged), end_ns});
+    }
   }
   ProcessWaitingScans();
 }
 
 void LidarFrontEnd::ProcessWaitingScans() {
   while (!waiting_.empty()) {
-    const TimeNs sweep_end_ns = SweepEnd(waiting_.front());
+    const TimeNs sweep_end_ns = waiting_.front().sweep_end_ns;
     if (sweep_end_ns > ctx_.newest_imu_ns) return;
     // The gyro prior waits for the released samples to cover the sweep (the same for every
     // estimator sharing the odometry, whatever its reorder latency).
     if (gyro_ && sweep_end_ns > gyro_->newest_ns()) return;
-    const LidarScan scan = waiting_.front();
+    const LidarScan scan = std::move(waiting_.front().scan);
     waiting_.pop_front();
     RegisterScan(scan, sweep_end_ns);
   }

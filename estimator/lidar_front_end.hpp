@@ -57,7 +57,13 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
   std::shared_ptr<SharedLidarOdometry> shared_;   // constant-velocity or gyro prior
   std::optional<GyroTrack> gyro_;                  // gyro prior: the raw samples
   std::optional<LidarScanMerger> merger_;  // with more than one lidar
-  std::deque<LidarScan> waiting_;          // released scans whose sweep the IMU has not covered
+  // Released scans whose sweep the IMU has not covered, with their sweep's end (computed once:
+  // the queue is looked at after every released measurement).
+  struct WaitingScan {
+    LidarScan scan;
+    TimeNs sweep_end_ns = 0;
+  };
+  std::deque<WaitingScan> waiting_;
   std::optional<TimeNs> last_scan_ns_;     // stamp of the newest accepted scan
   TimeNs restart_ns_ = INT64_MIN;          // shared odometry: no factor reaches before this
 };

@@ -11,11 +11,13 @@
 #include <deque>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "core/error.hpp"
 #include "estimator/bias_random_walk_factor.hpp"
+#include "estimator/chain_system.hpp"
 #include "estimator/dual_antenna_factor.hpp"
 #include "estimator/gnss_propagated_position_factor.hpp"
 #include "estimator/imu_factor.hpp"
@@ -90,6 +92,9 @@ struct SlidingWindowSmoother::Impl {
   std::vector<NavState> marginalized;
   int num_dropped = 0;  // pending measurements found too old, since the last Solve
   int num_left_out = 0;  // factors non-finite at marginalisation (Linearize), since the last Solve
+  // The newest state's information from the last chain solve's final linearisation; cleared by
+  // any change of the window's factors.
+  std::optional<Mat15> newest_information;
 
   void AddBlocks(Node& n) {
     problem.AddParameterBlock(n.x.q_world_imu.data(), 4, &manifold);
@@ -100,6 +105,7 @@ struct SlidingWindowSmoother::Impl {
 
   void AddFactor(Node& anchor, FactorKind kind, ceres::CostFunction* cost,
                  ceres::LossFunction* loss, std::vector<double*> blocks) {
+    newest_information.reset();
     const ceres::ResidualBlockId id = problem.AddResidualBlock(cost, loss, blocks);
     anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}, id});
   }
@@ -271,6 +277,17 @@ struct SlidingWindowSmoother::Impl {
                          [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
     first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples, first_kept - imu.begin());
     imu.erase(imu.begin(), first_kept);
+  }
+
+  // The window as chain_system.hpp sees it: each state's blocks and the factors anchored there.
+  std::vector<ChainState> Chain() const {
+    std::vector<ChainState> chain(states.size());
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      const std::vector<double*> blocks = states[k]->Blocks();
+      std::copy(blocks.begin(), blocks.end(), chain[k].blocks.begin());
+      for (const Factor& f : states[k]->factors) chain[k].factors.push_back(&f.record);
+    }
+    return chain;
   }
 
   Mat15 NewestInformation() const {

@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 
 #include "core/error.hpp"
+#include "estimator/chain_levenberg_marquardt.hpp"
 #include "estimator/sliding_window_impl.hpp"
 
 namespace statebench::est {
@@ -142,10 +143,11 @@ AddResult SlidingWindowSmoother::AddZeroRate(TimeNs t_end_ns, const Vec3& mean_g
                 }});
 }
 
-SmootherSolveSummary SlidingWindowSmoother::Solve() {
-  Impl& m = *impl_;
-  SmootherSolveSummary out;
-  if (!initialized()) return out;
+namespace {
+
+// One ceres::Solve of the window as it stands.
+void SolveWindowWithCeres(ceres::Problem& problem, const SlidingWindowOptions& o,
+                          SmootherSolveSummary* out) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   // Eigen's sparse Cholesky, not SuiteSparse's: CHOLMOD's supernodal factorisation calls the
@@ -153,18 +155,41 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   // the same input differed in their last bits with the heap layout. Eigen's is as fast here
   // (windows of tens of states) and gives the same bits wherever the data lie.
   options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-  options.max_num_iterations = m.options.max_iterations;
-  options.initial_trust_region_radius = m.options.initial_trust_region_radius;
-  options.num_threads = m.options.num_threads;
+  options.max_num_iterations = o.max_iterations;
+  options.initial_trust_region_radius = o.initial_trust_region_radius;
+  options.num_threads = o.num_threads;
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &m.problem, &summary);
+  ceres::Solve(options, &problem, &summary);
   // Ceres calls a solve whose cost is infinite from the start "usable" (it stops at iteration 0
   // with nothing to compare): a window with a non-finite cost has no solution to vouch for.
-  out.usable = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
-  out.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  out.initial_cost = summary.initial_cost;
-  out.final_cost = summary.final_cost;
+  out->usable = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
+  out->iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out->initial_cost = summary.initial_cost;
+  out->final_cost = summary.final_cost;
+}
+
+}  // namespace
+
+SmootherSolveSummary SlidingWindowSmoother::Solve() {
+  Impl& m = *impl_;
+  SmootherSolveSummary out;
+  if (!initialized()) return out;
+  std::optional<Mat15> newest_information;
+  if (m.options.solver == WindowSolver::kCeres) {
+    SolveWindowWithCeres(m.problem, m.options, &out);
+  } else {
+    const ChainSolveSummary chain = SolveChainLevenbergMarquardt(
+        m.Chain(), m.manifold,
+        ChainSolveOptions{m.options.max_iterations, m.options.initial_trust_region_radius});
+    out.usable = chain.usable;
+    out.iterations = chain.iterations;
+    out.initial_cost = chain.initial_cost;
+    out.final_cost = chain.final_cost;
+    // Marginalising below keeps the newest state's marginal (the prior is the Schur complement
+    // of the same linearisation), so the solve's elimination serves NewestCovariance.
+    if (chain.has_system) newest_information = NewestMarginalInformation(chain.system);
+  }
   for (const auto& n : m.states) {
     for (const Impl::Factor& f : n->factors) {
       out.num_imu_factors += f.kind == Impl::FactorKind::kImu;
@@ -188,6 +213,7 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
     ++out.num_marginalized;
     out.num_marginalized_unusable += out.usable ? 0 : 1;
   }
+  if (newest_information) m.newest_information = newest_information;
   out.num_states = static_cast<int>(m.states.size());
   out.num_dropped_pending = m.num_dropped;
   m.num_dropped = 0;
@@ -211,7 +237,8 @@ NavState SlidingWindowSmoother::PredictToNewestImu() const {
 
 Mat15 SlidingWindowSmoother::NewestCovariance() const {
   if (!initialized()) throw InputError("sliding window smoother: not initialized");
-  const Mat15 information = impl_->NewestInformation();
+  const Mat15 information = impl_->newest_information ? *impl_->newest_information
+                                                      : impl_->NewestInformation();
   const Eigen::LDLT<Mat15> ldlt(0.5 * (information + information.transpose()));
   Mat15 covariance = ldlt.solve(Mat15::Identity());
   return 0.5 * (covariance + covariance.transpose());

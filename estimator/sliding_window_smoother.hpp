@@ -30,6 +30,7 @@
 #include "estimator/imu_noise.hpp"
 #include "estimator/relative_pose_factor.hpp"
 #include "estimator/robust_kernel.hpp"
+#include "estimator/window_solver.hpp"
 
 namespace statebench::est {
 
@@ -46,6 +47,7 @@ struct SlidingWindowOptions {
   // 10 iterations (measured: 10+ at 1e4, 2-3 at 1e10-1e13 for keyframes and states per sample).
   double initial_trust_region_radius = 1e13;
   int num_threads = 1;
+  WindowSolver solver = WindowSolver::kCeres;
 
   bool IsValid(std::string* why = nullptr) const;
 };

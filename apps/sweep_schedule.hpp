@@ -1,0 +1,38 @@
+// The order a sweep starts its runs in. Runs that differ only in their estimators (the same
+// simulation group: SweepRun::simulation_group) share SUMO, every sensor stream and the lidar
+// registrations through the stage cache, but only once one of them has finished and stored
+// them: a second run of the group started while the first still computes would compute it all
+// again. So a group's runs wait while its first run is under way, and other groups' runs go
+// first; when nothing else is left, the free job slots wait too (the waiting runs then take a
+// second each instead of the whole simulation).
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace statebench::app {
+
+class SweepSchedule {
+ public:
+  // groups[i]: the simulation group of run i, in the order the runs should go.
+  explicit SweepSchedule(std::vector<std::string> groups);
+
+  // The next run to start (marked started), or nullopt when every run left waits for a running
+  // one of its group (or none is left).
+  std::optional<std::size_t> Next();
+  // Run i ended (ok or failed: either way its group stops waiting).
+  void Finished(std::size_t i);
+  bool AllStarted() const { return started_count_ == groups_.size(); }
+
+ private:
+  std::vector<std::string> groups_;
+  std::vector<bool> started_;
+  std::size_t started_count_ = 0;
+  std::map<std::string, int> running_;  // runs under way, by group
+  std::map<std::string, bool> warm_;    // groups with a finished run
+};
+
+}  // namespace statebench::app

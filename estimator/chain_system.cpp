@@ -1,0 +1,231 @@
+#include "estimator/chain_system.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace statebench::est {
+namespace {
+
+using Mat30 = Eigen::Matrix<double, 30, 30>;
+using Vec30 = Eigen::Matrix<double, 30, 1>;
+using ChainJacobian = Eigen::Matrix<double, Eigen::Dynamic, 30>;  // columns contiguous
+using ChainAmbient = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+constexpr std::array<int, 4> kChainTangentOffset{0, 3, 6, 9};
+constexpr std::array<int, 4> kChainTangentSize{3, 3, 3, 6};
+
+// Where a factor's block sits in the 30-dim tangent of (anchor, next); -1 if in neither.
+int ChainSlot(const ChainState& anchor, const ChainState* next, const double* block) {
+  for (int i = 0; i < 4; ++i) {
+    if (anchor.blocks[i] == block) return i;
+    if (next != nullptr && next->blocks[i] == block) return 4 + i;
+  }
+  return -1;
+}
+
+// Ceres' robust-loss correction (ceres/internal/corrector.cc): r and J rescaled so that
+// J^T J and J^T r are the loss' first-order (and, for rho'' > 0, second-order) model.
+struct ChainCorrector {
+  double sqrt_rho1 = 1.0;
+  double residual_scaling = 1.0;
+  double alpha_sq_norm = 0.0;
+
+  ChainCorrector(double sq_norm, const double rho[3]) {
+    sqrt_rho1 = std::sqrt(rho[1]);
+    if (sq_norm == 0.0 || rho[2] <= 0.0) {
+      residual_scaling = sqrt_rho1;
+      return;
+    }
+    const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * sq_norm * rho[2] / rho[1]);
+    residual_scaling = sqrt_rho1 / (1.0 - alpha);
+    alpha_sq_norm = alpha / sq_norm;
+  }
+};
+
+// Scratch reused from factor to factor: buffers grow to the largest factor and stay, so a
+// linearisation allocates a few times, not per factor.
+struct ChainScratch {
+  std::vector<double> r_buffer, ambient_buffer, J_buffer;
+  std::vector<double*> ambient_ptrs;
+};
+
+using ChainAmbientMap = Eigen::Map<const ChainAmbient>;
+
+// Adds one factor's J^T J (lower triangle) and J^T r to the pair system (anchor, next); its cost
+// to *cost.
+bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const ChainState* next,
+                    const ceres::Manifold& rotation, ChainScratch& s, Mat30& H, Vec30& g,
+                    double* cost) {
+  const int m = f.cost->num_residuals();
+  const auto& sizes = f.cost->parameter_block_sizes();
+  int ambient_total = 0;
+  for (int32_t size : sizes) ambient_total += size;
+  if (s.r_buffer.size() < static_cast<std::size_t>(m)) s.r_buffer.resize(m);
+  if (s.ambient_buffer.size() < static_cast<std::size_t>(m * ambient_total)) {
+    s.ambient_buffer.resize(m * ambient_total);
+  }
+  if (s.J_buffer.size() < static_cast<std::size_t>(m * 30)) s.J_buffer.resize(m * 30);
+  s.ambient_ptrs.resize(sizes.size());
+  for (std::size_t b = 0, at = 0; b < sizes.size(); at += m * sizes[b], ++b) {
+    s.ambient_ptrs[b] = s.ambient_buffer.data() + at;
+  }
+  Eigen::Map<Eigen::VectorXd> r(s.r_buffer.data(), m);
+  if (!f.cost->Evaluate(f.blocks.data(), r.data(), s.ambient_ptrs.data())) return false;
+
+  Eigen::Map<ChainJacobian> J(s.J_buffer.data(), m, 30);
+  J.setZero();
+  int lo = 30, hi = 0;
+  for (std::size_t b = 0; b < sizes.size(); ++b) {
+    const int slot = ChainSlot(anchor, next, f.blocks[b]);
+    if (slot < 0) return false;
+    const int offset = kChainTangentOffset[slot % 4] + 15 * (slot / 4);
+    const int size = kChainTangentSize[slot % 4];
+    const ChainAmbientMap ambient(s.ambient_ptrs[b], m, sizes[b]);
+    if (slot % 4 == 0) {
+      Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
+      rotation.PlusJacobian(f.blocks[b], plus.data());
+      J.middleCols(offset, 3) += ambient.lazyProduct(plus);
+    } else {
+      J.middleCols(offset, size) += ambient;
+    }
+    lo = std::min(lo, offset);
+    hi = std::max(hi, offset + size);
+  }
+  const double sq_norm = r.squaredNorm();
+  if (f.loss == nullptr) {
+    *cost += 0.5 * sq_norm;
+  } else {
+    double rho[3];
+    f.loss->Evaluate(sq_norm, rho);
+    *cost += 0.5 * rho[0];
+    const ChainCorrector c(sq_norm, rho);
+    if (c.alpha_sq_norm != 0.0) {
+      const Eigen::RowVectorXd rtJ = r.transpose() * J;
+      J -= c.alpha_sq_norm * r * rtJ;
+    }
+    J *= c.sqrt_rho1;
+    r *= c.residual_scaling;
+  }
+  // Column dot products over the columns the factor touches (contiguous, vectorised).
+  for (int j = lo; j < hi; ++j) {
+    for (int i = j; i < hi; ++i) H(i, j) += J.col(i).dot(J.col(j));
+    g(j) += J.col(j).dot(r);
+  }
+  return true;
+}
+
+// S^-1 * rhs for a block being eliminated, as SchurComplement inverts H_mm.
+template <int Cols>
+Eigen::Matrix<double, 15, Cols> ChainEliminate(const Mat15& S_in,
+                                               const Eigen::Matrix<double, 15, Cols>& rhs) {
+  const Mat15 S = 0.5 * (S_in + S_in.transpose());
+  const Eigen::LLT<Mat15> llt(S);
+  if (llt.info() == Eigen::Success &&
+      Mat15(llt.matrixL()).diagonal().array().square().minCoeff() >
+          1e-10 * S.diagonal().maxCoeff()) {
+    return llt.solve(rhs);
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat15> eig(S);
+  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
+  const Vec15 inv_values =
+      eig.eigenvalues().unaryExpr([&](double l) { return l > threshold ? 1.0 / l : 0.0; });
+  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose() * rhs;
+}
+
+}  // namespace
+
+bool ChainCost(const std::vector<ChainState>& chain, double* cost) {
+  double total = 0.0;
+  std::vector<double> buffer;
+  for (const ChainState& state : chain) {
+    for (const FactorRecord* f : state.factors) {
+      const int m = f->cost->num_residuals();
+      if (buffer.size() < static_cast<std::size_t>(m)) buffer.resize(m);
+      if (!f->cost->Evaluate(f->blocks.data(), buffer.data(), nullptr)) return false;
+      const double sq_norm = Eigen::Map<const Eigen::VectorXd>(buffer.data(), m).squaredNorm();
+      if (f->loss == nullptr) {
+        total += 0.5 * sq_norm;
+      } else {
+        double rho[3];
+        f->loss->Evaluate(sq_norm, rho);
+        total += 0.5 * rho[0];
+      }
+    }
+  }
+  *cost = total;
+  return true;
+}
+
+bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold& rotation,
+                    ChainSystem* system) {
+  const std::size_t n = chain.size();
+  system->D.assign(n, Mat15::Zero());
+  system->B.assign(n > 0 ? n - 1 : 0, Mat15::Zero());
+  system->g.assign(n, Vec15::Zero());
+  system->cost = 0.0;
+  ChainScratch scratch;
+  for (std::size_t k = 0; k < n; ++k) {
+    const ChainState* next = k + 1 < n ? &chain[k + 1] : nullptr;
+    Mat30 H = Mat30::Zero();
+    Vec30 g = Vec30::Zero();
+    for (const FactorRecord* f : chain[k].factors) {
+      if (!AddChainFactor(*f, chain[k], next, rotation, scratch, H, g, &system->cost)) {
+        return false;
+      }
+    }
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
+    system->D[k] += H.topLeftCorner<15, 15>();
+    system->g[k] += g.head<15>();
+    if (next != nullptr) {
+      system->B[k] += H.topRightCorner<15, 15>();
+      system->D[k + 1] += H.bottomRightCorner<15, 15>();
+      system->g[k + 1] += g.tail<15>();
+    }
+  }
+  return true;
+}
+
+bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
+                std::vector<Vec15>* dx) {
+  // Forward, with S_k = L_k L_k^T = D_k + diag(damping_k) - V_{k-1}^T V_{k-1}:
+  //   V_k = L_k^-1 B_k,  u_k = L_k^-1 (-g_k - V_{k-1}^T u_{k-1})
+  // Backward: dx_k = L_k^-T (u_k - V_k dx_{k+1}).
+  const std::size_t n = system.D.size();
+  std::vector<Eigen::LLT<Mat15>> L(n);
+  std::vector<Mat15> V(n);
+  std::vector<Vec15> u(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Mat15 S = system.D[k];
+    Vec15 y = -system.g[k];
+    if (k > 0) {
+      S.noalias() -= V[k - 1].transpose().lazyProduct(V[k - 1]);
+      y.noalias() -= V[k - 1].transpose() * u[k - 1];
+    }
+    S.diagonal() += damping[k];
+    L[k].compute(S);
+    if (L[k].info() != Eigen::Success) return false;
+    u[k] = L[k].matrixL().solve(y);
+    if (k + 1 < n) V[k] = L[k].matrixL().solve(system.B[k]);
+  }
+  dx->resize(n);
+  for (std::size_t k = n; k-- > 0;) {
+    Vec15 w = u[k];
+    if (k + 1 < n) w.noalias() -= V[k] * (*dx)[k + 1];
+    (*dx)[k] = L[k].matrixU().solve(w);
+  }
+  return true;
+}
+
+Mat15 NewestMarginalInformation(const ChainSystem& system) {
+  Mat15 S = system.D.front();
+  for (std::size_t k = 0; k + 1 < system.D.size(); ++k) {
+    const Mat15 X = ChainEliminate<15>(S, system.B[k]);
+    S = system.D[k + 1] - system.B[k].transpose().lazyProduct(X);
+    S = 0.5 * (S + S.transpose());
+  }
+  return S;
+}
+
+}  // namespace statebench::est

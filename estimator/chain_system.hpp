@@ -1,0 +1,62 @@
+// The sliding window's Gauss-Newton system as a chain: states 0..N-1, each with a 15-dim tangent
+// (rotation, position, velocity, gyro bias, accel bias: core/state.hpp), and factors that touch
+// one state or two neighbouring ones (the smoother anchors every factor at the oldest state it
+// touches, and a factor reaches at most the next state). The normal equations are therefore
+// block-tridiagonal:
+//
+//   H = | D_0    B_0                 |      g = | g_0 |
+//       | B_0^T  D_1    B_1          |          | g_1 |
+//       |        B_1^T  D_2   ...    |          | ... |
+//
+// with D_k = sum J_k^T J_k over the factors touching state k, B_k = sum J_k^T J_{k+1} and
+// g_k = sum J_k^T r. A robust loss enters as Ceres applies it (ceres::internal::Corrector: the
+// residual and Jacobian are rescaled with rho' and, where rho'' > 0, the Triggs correction), so
+// the system is the one Ceres' Levenberg-Marquardt builds for the same factors.
+//
+// Solving H dx = -g (with an optional diagonal added to each D_k) is a block elimination oldest
+// first in O(N) 15x15 operations; the last block of the undamped elimination is the newest state's
+// marginal information, the Schur complement of every older state.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/eigen_types.hpp"
+#include "estimator/linear_system.hpp"
+
+namespace statebench::est {
+
+// One state of the chain: its parameter blocks (q_world_imu 4 on `rotation`, p 3, v 3, bias 6)
+// and the factors anchored at it (they use its blocks and possibly the next state's).
+struct ChainState {
+  std::array<double*, 4> blocks{};
+  std::vector<const FactorRecord*> factors;
+};
+
+struct ChainSystem {
+  std::vector<Mat15> D;  // diagonal blocks
+  std::vector<Mat15> B;  // B[k] couples state k (rows) with state k+1 (columns); N-1 of them
+  std::vector<Vec15> g;
+  double cost = 0.0;     // 1/2 sum rho(|r|^2), as ceres::Problem::Evaluate gives it
+};
+
+// Cost of every factor at the current block values; false if a factor fails to evaluate.
+bool ChainCost(const std::vector<ChainState>& chain, double* cost);
+
+// Residuals, Jacobians, H and g at the current block values. False (system unspecified) if a
+// factor fails to evaluate or a block of a factor belongs neither to its anchor nor to the next
+// state.
+bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold& rotation,
+                    ChainSystem* system);
+
+// Solves (H + diag(damping)) dx = -g by block elimination. False if an eliminated block is not
+// positive definite (dx unspecified).
+bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
+                std::vector<Vec15>* dx);
+
+// The newest state's information, H's last block after eliminating every older state (each
+// eliminated block inverted as SchurComplement does: Cholesky, or the eigen pseudo-inverse when
+// nearly singular).
+Mat15 NewestMarginalInformation(const ChainSystem& system);
+
+}  // namespace statebench::est

@@ -1,0 +1,53 @@
+// What the EKF says it lacks in a setup before it runs (issue 14: it ran with another
+// vehicle's file and no speed input without a word).
+#include "estimator/ekf_input_check.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "ekf_test_drive.hpp"
+#include "estimator/ekf_single_track.hpp"
+
+namespace statebench::est {
+namespace {
+
+bool AnyContains(const std::vector<std::string>& lines, const std::string& text) {
+  for (const std::string& l : lines) {
+    if (l.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(EkfInputCheck, AFullSetupOfItsOwnVehicleHasNoWarningButTheSensorsItIgnores) {
+  const std::vector<std::string> w =
+      EkfInputWarnings(testing::MakeDriveSetup(), SingleTrackParams{});  // the quadricycle
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("not used by this estimator: wheels (wheel_encoders)"), std::string::npos);
+}
+
+TEST(EkfInputCheck, NoSpeedNoSteeringIsSaid) {
+  const std::vector<std::string> w =
+      EkfInputWarnings(testing::MakeMinimalDriveSetup(), SingleTrackParams{});
+  EXPECT_TRUE(AnyContains(w, "no speed input"));
+  EXPECT_TRUE(AnyContains(w, "no steering input"));
+  // And the estimator reports them in its diagnostics from the start.
+  EkfOptions options;
+  const EkfSingleTrackEstimator ekf(testing::MakeMinimalDriveSetup(), options);
+  EXPECT_EQ(ekf.diagnostics().warnings, w);
+}
+
+TEST(EkfInputCheck, AnotherVehiclesFileIsSuspected) {
+  SingleTrackParams shuttle;  // axles 1.5 m from the centre of gravity
+  shuttle.cg_to_front_axle_m = 1.5;
+  shuttle.cg_to_rear_axle_m = 1.5;
+  const std::vector<std::string> w = EkfInputWarnings(testing::MakeDriveSetup(), shuttle);
+  EXPECT_TRUE(AnyContains(w, "'speed' is mounted at x = -0.76 m but the vehicle file's rear axle "
+                             "is at x = -1.50 m"));
+  EXPECT_TRUE(AnyContains(w, "'steering' is mounted at x = 0.93 m but the vehicle file's front "
+                             "axle is at x = 1.50 m"));
+  EXPECT_FALSE(AnyContains(w, "no speed input"));
+}
+
+}  // namespace
+}  // namespace statebench::est
