@@ -136,6 +136,15 @@ int RunEstimate(const std::vector<std::string>& argv) {
                               {"cpu", cpu.Json(feed.estimators(), logged_s)}};
     std::ofstream(out_dir / "profile.json") << profile.dump(2) << "\n";
     const std::optional<std::string> no_estimate = NoEstimateMessage(fed, score);
+    if (!no_estimate) {
+      // Truth-free (diagnostics.json output_step): how far the output jumps between samples.
+      const reports::OutputSteps& steps = score.output_steps;
+      std::printf(
+          "output step beyond its own motion: position p50 %.4f p99 %.4f max %.4f m, yaw p99 "
+          "%.5f max %.5f rad\n",
+          steps.position_m.p50, steps.position_m.p99, steps.position_m.max, steps.yaw_rad.p99,
+          steps.yaw_rad.max);
+    }
     if (has_truth) {
       nlohmann::json& j = score.metrics_json;
       j["estimator"] = fed.estimator->name();

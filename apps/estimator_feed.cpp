@@ -83,10 +83,14 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
     std::optional<StateEstimate> e;
     if (output) e = f.estimator->StateAt(imu->header.stamp_ns);
     f.time += CurrentStageTimes() - before;
-    if (!e) continue;
+    if (!e) {
+      if (output) f.steps.Break();
+      continue;
+    }
     // A local-frame estimate (no GNSS) has no meaningful WGS84 position: kept as it is.
     if (frame_ && e->status != EstimateStatus::kLocal)
       e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+    f.steps.Add(e->state, imu->gyro);
     {
       const StageScope writing(Stage::kWriting);
       f.writer->Write(*e);
@@ -119,6 +123,8 @@ std::vector<EstimatorScore> EstimatorFeed::Finish() {
     EstimatorScore s;
     s.diagnostics = f.estimator->diagnostics();
     s.diagnostics_json = DiagnosticsJson(s.diagnostics);
+    s.output_steps = f.steps.Summary();
+    s.diagnostics_json["output_step"] = reports::ToJson(s.output_steps);
     {
       const StageScope writing(Stage::kWriting);
       f.writer->Close();

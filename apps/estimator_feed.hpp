@@ -4,7 +4,9 @@
 // stream's ENU frame through its WGS84 position (estimators anchor their own frame where they
 // like), written, and scored against the truth as it goes (reports/run_scorer.hpp: one common
 // span for every estimator, memory that does not grow with the run); at the end each one's
-// diagnostics and metrics are written next to its estimate.
+// diagnostics and metrics are written next to its estimate. The step between consecutive
+// estimates beyond their own motion (truth-free, reports/output_step.hpp) goes into
+// diagnostics.json as `output_step`; against the truth it is in metrics.json.
 #pragma once
 
 #include <cstddef>
@@ -21,6 +23,7 @@
 #include "core/stage_profile.hpp"
 #include "estimator/estimator.hpp"
 #include "reports/estimate_writer.hpp"
+#include "reports/output_step.hpp"
 #include "reports/run_scorer.hpp"
 #include "reports/trajectory_metrics.hpp"
 
@@ -36,6 +39,7 @@ struct FedEstimator {
   std::size_t estimates = 0;        // written
   std::size_t finite_estimates = 0;
   StageTimes time;  // spent in its calls (its lidar odometry included; not writing)
+  reports::OwnMotionStepMeter steps;  // truth-free output steps (diagnostics.json output_step)
 };
 
 // What the scoring of one estimator gives: diagnostics.json and metrics.json (written), and the
@@ -45,6 +49,7 @@ struct EstimatorScore {
   nlohmann::json diagnostics_json;
   reports::TrajectoryMetrics metrics;
   nlohmann::json metrics_json;  // the caller may add fields before WriteMetrics
+  reports::OutputSteps output_steps;  // truth-free (reports/output_step.hpp)
 };
 
 class EstimatorFeed {

@@ -25,6 +25,7 @@
 #include "estimator/imu_noise.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/motion_factor_options.hpp"
+#include "estimator/output_blend.hpp"
 #include "estimator/robust_kernel.hpp"
 #include "estimator/window_solver.hpp"
 
@@ -152,6 +153,10 @@ struct FactorGraphOptions {
   double window_s = 1.0;
   int imu_samples_per_state = 10;  // 1: a state per IMU sample (paper); N: keyframes
   double solve_interval_s = 0.1;
+  // How the IMU-rate output takes in the correction each solve brings (output_blend.hpp): at a
+  // bounded rate instead of a jump between two samples; its covariance covers the offset still
+  // shown.
+  OutputBlendOptions output_blend;
   // Every measurement is held until the IMU is this far past its stamp and then fed to the
   // smoother in stamp order, so delivery order does not change the result (delays up to this).
   // The IMU-rate output is an IMU prediction over this span. nullopt ("auto"): the setup's

@@ -11,6 +11,7 @@
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end_set.hpp"
 #include "estimator/measurement_intake.hpp"
+#include "estimator/output_blend.hpp"
 #include "estimator/solve_diagnostics.hpp"
 #include "estimator/gnss_calibration_covariance.hpp"
 #include "estimator/state_estimate.hpp"
@@ -54,6 +55,9 @@ struct FactorGraphEstimator::Impl {
   MeasurementIntake intake;
   FrontEndSet front_end_set;  // a new measurement kind is a new front end there
   std::vector<MeasurementFrontEnd*> front_ends;
+  // What StateAt shows: the IMU-rate output with each solve's correction blended in (the front
+  // ends' predictions, PredictAt, are not blended).
+  OutputBlend blend{options.output_blend};
 
   // The output's share of the calibration errors the smoother cannot average away
   // (gnss_calibration_covariance.hpp): the first antenna's lever arm, the first heading pair's
@@ -157,6 +161,7 @@ struct FactorGraphEstimator::Impl {
   // sample; no estimate until initialised again.
   void StartOver() {
     ctx.Restart();
+    blend.Reset();
     for (MeasurementFrontEnd* f : front_ends) f->OnRestart();
   }
 
@@ -187,6 +192,7 @@ struct FactorGraphEstimator::Impl {
     ctx.initialized = true;
     ctx.diag.Initialized(x.t_ns, init->method);
     ctx.output.SetAnchor(PropagatedState{x, init->covariance});
+    blend.Reset();  // nothing was shown before
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
     for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);
   }
@@ -207,7 +213,7 @@ struct FactorGraphEstimator::Impl {
     if (keep_smoothed) smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&
         newest.v_world.allFinite() && covariance.allFinite()) {
-      ctx.output.SetAnchor(PropagatedState{newest, covariance});
+      MoveAnchor(PropagatedState{newest, covariance});
     }
     const TimeNs interval = FromSeconds(options.solve_interval_s);
     while (next_solve_ns <= lagged_ns) next_solve_ns += interval;
@@ -215,6 +221,20 @@ struct FactorGraphEstimator::Impl {
     TimeNs keep = ctx.smoother.WindowStates().front().t_ns;
     for (const MeasurementFrontEnd* f : front_ends) keep = std::min(keep, f->OldestStampNeeded());
     ctx.output.Forget(keep);
+  }
+
+  // The new anchor; the output continues from what it showed at the newest sample and blends
+  // the correction in (output_blend.hpp).
+  void MoveAnchor(const PropagatedState& anchor) {
+    const TimeNs now = ctx.newest_imu_ns;
+    const std::optional<PropagatedState> before = ctx.output.AfterAnchor(now);
+    ctx.output.SetAnchor(anchor);
+    const std::optional<PropagatedState> after = ctx.output.AfterAnchor(now);
+    if (before && after) {
+      blend.Rebase(blend.Apply(*before).state, after->state);
+    } else {
+      blend.Reset();
+    }
   }
 };
 
@@ -236,7 +256,10 @@ std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   const LocalEnuFrame* frame =
       impl_->position_sensors.empty() ? &impl_->local_frame : (enu ? &*enu : nullptr);
   if (!p || frame == nullptr) return std::nullopt;
-  p->covariance += impl_->CalibrationConsider(p->state);
+  // The calibration share at the best estimate; the blend's offset on top (output_blend.hpp).
+  const Mat15 consider = impl_->CalibrationConsider(p->state);
+  *p = impl_->blend.Apply(*p);
+  p->covariance += consider;
   std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
   if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
   return out;

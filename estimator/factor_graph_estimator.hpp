@@ -21,7 +21,10 @@
 //     and covariance) for t at or after the anchor, up to the newest IMU sample: the IMU-rate
 //     output. For t inside the window, the smoothed state at or before t carried to t, with the
 //     covariance of the latest earlier anchor (a filtered covariance, an upper bound of the
-//     smoothed one). Older stamps: nullopt.
+//     smoothed one). Older stamps: nullopt. From the newest solve's stamp on, the output blends
+//     that solve's correction in at a bounded rate instead of jumping by it (output_blend.hpp;
+//     the covariance covers the offset still shown); the front ends' gates use the unblended
+//     prediction.
 #pragma once
 
 #include <memory>

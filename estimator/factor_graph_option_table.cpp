@@ -92,6 +92,18 @@ OptionTable<InitializationOptions> InitializationTable() {
   return t;
 }
 
+OptionTable<OutputBlendOptions> OutputBlendTable() {
+  using B = OutputBlendOptions;
+  OptionTable<B> t("output blend");
+  t.Number("max_s", &B::max_s, Range::NonNegative(),
+           "the longest a correction takes to come in (0: the output jumps to each solve)")
+      .Number("position_rate_mps", &B::position_rate_mps, Range::Positive(),
+              "position correction rate (m/s; x dt is the largest step it adds)")
+      .Number("rotation_rate_radps", &B::rotation_rate_radps, Range::Positive(),
+              "rotation correction rate (rad/s)");
+  return t;
+}
+
 void ReadUse(const YamlNode& n, FactorUse* use) {
   try {
     *use = ParseFactorUse(n.As<std::string>());
@@ -210,6 +222,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Integer("imu_samples_per_state", &F::imu_samples_per_state, 1,
                "1: a state per IMU sample (paper); N: keyframes")
       .Number("solve_interval_s", &F::solve_interval_s, Range::Positive(), "time between solves")
+      .Section("output_blend", &F::output_blend, OutputBlendTable(),
+               "how the IMU-rate output takes in each solve's correction")
       .Custom(
           "reorder_latency_s",
           [](const YamlNode& n, F* o) {

@@ -7,6 +7,14 @@ nlohmann::json ToJson(const ErrorStatistics& s) {
           {"std", s.std},   {"max", s.max},   {"count", s.count}};
 }
 
+nlohmann::json ToJson(const StepStatistics& s) {
+  return {{"p50", s.p50}, {"p99", s.p99}, {"max", s.max}, {"count", s.count}};
+}
+
+nlohmann::json ToJson(const OutputSteps& s) {
+  return {{"position_m", ToJson(s.position_m)}, {"yaw_rad", ToJson(s.yaw_rad)}};
+}
+
 nlohmann::json ToJson(const TrajectoryMetrics& m) {
   nlohmann::json outages = nlohmann::json::array();
   for (const OutageDrift& d : m.outages) {
@@ -46,7 +54,8 @@ nlohmann::json ToJson(const TrajectoryMetrics& m) {
           {"outages", outages},
           {"nees", {{"pose_6dof_mean", m.mean_pose_nees},
                     {"position_3dof_mean", m.mean_position_nees},
-                    {"count", m.nees_count}}}};
+                    {"count", m.nees_count}}},
+          {"output_step", ToJson(m.output_step)}};
 }
 
 }  // namespace statebench::reports

@@ -8,6 +8,8 @@
 namespace statebench::reports {
 
 nlohmann::json ToJson(const ErrorStatistics& s);
+nlohmann::json ToJson(const StepStatistics& s);
+nlohmann::json ToJson(const OutputSteps& s);  // {position_m, yaw_rad}: p50, p99, max, count
 nlohmann::json ToJson(const TrajectoryMetrics& m);
 
 }  // namespace statebench::reports

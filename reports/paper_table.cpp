@@ -95,6 +95,8 @@ const std::vector<TableMetric>& TableMetrics() {
       {"rmse_v_lon", "RMSE longitudinal velocity [m/s]", "/rmse/v_longitudinal_mps", 3},
       {"ape", "APE translation RMSE [m]", "/ape/translation_m/rmse", 3},
       {"nees", "pose NEES, mean (6 dof: ideal 6)", "/nees/pose_6dof_mean", 2},
+      {"output_step_p99", "output step beyond the true motion, p99 [m]",
+       "/output_step/position_m/p99", 4},
       {"availability", "availability in the scored span", "/availability/span_fraction", 4, false,
        "/availability/span_imu_stamps"},
       {"outage_rmse_x", "GNSS outage: RMSE X [m]", "/during_outages/0/rmse/x_m", 3, false,

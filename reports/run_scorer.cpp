@@ -126,7 +126,11 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
       ++e.availability.span_epochs;
       if (c && Finite(c->state)) ++e.availability.span_finite_estimates;
     }
-    if (!c) continue;
+    if (!c) {  // no estimate at this epoch: no output step across it
+      e.scorer.Break();
+      for (TrajectoryScorer& w : e.outage_scorers) w.Break();
+      continue;
+    }
     if (!in_span) {
       e.scorer.Skip();
       continue;

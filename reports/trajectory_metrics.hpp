@@ -20,6 +20,8 @@
 //   exact. Estimates with a non-finite mean are not compared (counted in `non_finite`).
 // - NEES of the pose (6 dof): e = (Log(R_est^T R_ref), p_ref - p_est) against the estimate's
 //   [rotation, position] covariance block (right rotation perturbation, core/state.hpp).
+// - Output step: between consecutive estimates, the estimated motion minus the reference's
+//   (position and yaw; reports/output_step.hpp): median, p99, max.
 #pragma once
 
 #include <optional>
@@ -63,6 +65,18 @@ struct ErrorStatistics {
 };
 ErrorStatistics ComputeStatistics(std::vector<double> errors);
 
+// Median, 99th percentile (within 0.05 %) and maximum of the steps between consecutive outputs.
+struct StepStatistics {
+  double p50 = 0.0;
+  double p99 = 0.0;
+  double max = 0.0;
+  std::size_t count = 0;
+};
+struct OutputSteps {
+  StepStatistics position_m;
+  StepStatistics yaw_rad;
+};
+
 struct OutageWindow {
   TimeNs begin_ns = 0;
   TimeNs end_ns = 0;
@@ -105,6 +119,7 @@ struct TrajectoryMetrics {
   double mean_position_nees = 0.0;
   std::size_t nees_count = 0;   // estimates with a usable covariance
   double distance_m = 0.0;      // reference distance over the compared span
+  OutputSteps output_step;      // against the reference (reports/output_step.hpp)
 };
 
 // All estimates at once (stamps increasing); the same figures as feeding TrajectoryScorer.

@@ -43,14 +43,15 @@ TrajectoryScorer::TrajectoryScorer(MetricsOptions options) : options_(std::move(
 
 void TrajectoryScorer::Add(const NavState& s, const Mat6& pose_covariance,
                            const ReferenceState& r) {
-  if (s.t_ns < options_.skip_before_ns) {
-    ++metrics_.skipped;
-    return;
-  }
+  if (s.t_ns < options_.skip_before_ns) return Skip();
   if (!s.p_world.allFinite() || !s.v_world.allFinite() || !s.q_world_imu.coeffs().allFinite()) {
     ++metrics_.non_finite;
-    return;
+    return Break();
   }
+  if (previous_ && s.t_ns > previous_->first.t_ns) {
+    steps_.Add(StepAgainstReference(previous_->first, s, previous_->second, r));
+  }
+  previous_.emplace(s, r);
   if (metrics_.compared == 0) {
     first_distance_m_ = r.distance_m;
     next_rpe_start_m_ = next_kitti_start_m_ = r.distance_m;
@@ -128,6 +129,7 @@ void TrajectoryScorer::AddRelative(double d, const SE3& T_ref, const SE3& T_est)
 
 TrajectoryMetrics TrajectoryScorer::Finish() {
   TrajectoryMetrics m = metrics_;
+  m.output_step = steps_.Summary();
   const std::size_t n = m.compared;
   if (n == 0) return m;
   m.distance_m = last_distance_m_ - first_distance_m_;

@@ -8,10 +8,13 @@
 
 #include <cstddef>
 #include <deque>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/running_statistics.hpp"
 #include "core/state.hpp"
+#include "reports/output_step.hpp"
 #include "reports/trajectory_metrics.hpp"
 
 namespace statebench::reports {
@@ -28,7 +31,13 @@ class TrajectoryScorer {
     Add(estimate.state, estimate.covariance.topLeftCorner<6, 6>(), reference);
   }
   // An estimate that could not be compared (outside the reference span).
-  void Skip() { ++metrics_.skipped; }
+  void Skip() {
+    ++metrics_.skipped;
+    Break();
+  }
+  // An output epoch without an estimate: the next estimate does not follow the last one, the
+  // pair is no output step.
+  void Break() { previous_.reset(); }
 
   // The metrics of everything added (relative-error starts still open are closed as they stand).
   TrajectoryMetrics Finish();
@@ -60,6 +69,9 @@ class TrajectoryScorer {
   double next_rpe_start_m_ = 0.0, next_kitti_start_m_ = 0.0;
   double kitti_t_ = 0.0, kitti_r_ = 0.0;
   std::vector<OutageAccumulator> outages_;
+  // The last estimate and its reference, for the output step.
+  std::optional<std::pair<NavState, ReferenceState>> previous_;
+  OutputStepStatistics steps_;
 };
 
 }  // namespace statebench::reports

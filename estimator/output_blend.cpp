@@ -1,0 +1,45 @@
+#include "estimator/output_blend.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/so3.hpp"
+
+namespace statebench::est {
+
+void OutputBlend::Rebase(const NavState& shown, const NavState& best) {
+  offset_.reset();
+  if (!(options_.max_s > 0.0)) return;
+  Offset o;
+  o.t_ns = best.t_ns;
+  o.d << so3::Log<double>(best.q_world_imu.conjugate() * shown.q_world_imu),
+      shown.p_world - best.p_world, shown.v_world - best.v_world;
+  if (!o.d.allFinite()) return;
+  const double at_rate = std::max(o.d.segment<3>(kPositionIndex).norm() / options_.position_rate_mps,
+                                  o.d.segment<3>(kRotationIndex).norm() / options_.rotation_rate_radps);
+  o.duration_ns = FromSeconds(std::min(options_.max_s, at_rate));
+  if (o.duration_ns > 0) offset_ = o;
+}
+
+Vec9 OutputBlend::OffsetAt(TimeNs t_ns) const {
+  if (!offset_ || t_ns < offset_->t_ns || t_ns >= offset_->t_ns + offset_->duration_ns) {
+    return Vec9::Zero();
+  }
+  const double w = 1.0 - static_cast<double>(t_ns - offset_->t_ns) /
+                             static_cast<double>(offset_->duration_ns);
+  return w * offset_->d;
+}
+
+PropagatedState OutputBlend::Apply(const PropagatedState& best) const {
+  const Vec9 b = OffsetAt(best.state.t_ns);
+  if (b.isZero(0.0)) return best;
+  PropagatedState out = best;
+  out.state.q_world_imu =
+      (best.state.q_world_imu * so3::Exp<double>(Vec3(b.segment<3>(kRotationIndex)))).normalized();
+  out.state.p_world += b.segment<3>(kPositionIndex);
+  out.state.v_world += b.segment<3>(kVelocityIndex);
+  out.covariance.topLeftCorner<9, 9>() += b * b.transpose();
+  return out;
+}
+
+}  // namespace statebench::est
