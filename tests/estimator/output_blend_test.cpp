@@ -109,7 +109,7 @@ TEST(OutputBlend, MaxSZeroOrAResetShowsTheBestEstimate) {
 }
 
 // The real-time outputs of a run, by stamp.
-std::map<TimeNs, StateEstimate> Outputs(const testing::Scenario& sc, double max_s) {
+std::map<TimeNs, StateEstimate> BlendRunOutputs(const testing::Scenario& sc, double max_s) {
   FactorGraphOptions o;
   o.origin = testing::kTestOrigin;
   o.output_blend.max_s = max_s;
@@ -157,8 +157,8 @@ TEST(OutputBlend, FactorGraphOutputDoesNotJumpWhenTheOutageEnds) {
   const testing::Scenario sc = testing::MakeScenario(so);
   OutputBlendOptions blend;
   blend.max_s = 1.0;
-  const auto jumping = Outputs(sc, 0.0);
-  const auto blended = Outputs(sc, blend.max_s);
+  const auto jumping = BlendRunOutputs(sc, 0.0);
+  const auto blended = BlendRunOutputs(sc, blend.max_s);
   const double jump = LargestStep(sc, jumping, so.outage_end_s);
   const double step = LargestStep(sc, blended, 5.0);
   std::printf("largest output step against the truth: %.4f m without the blend (after the "
