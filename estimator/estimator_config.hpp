@@ -164,7 +164,7 @@ struct FactorGraphOptions {
   std::optional<double> reorder_latency_s;
   int max_iterations = 10;
   int num_threads = 1;
-  WindowSolver solver = WindowSolver::kCeres;  // sliding_window_smoother.hpp
+  WindowSolver solver = WindowSolver::kChain;  // sliding_window_smoother.hpp
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   InitializationOptions initialization;
