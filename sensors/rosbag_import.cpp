@@ -146,31 +146,6 @@ struct Stream {
   std::optional<TimeNs> max_delay_ns;
 };
 
-// Checks the map against the bag's topics before anything is written.
-void CheckMap(const RosTopicMap& map, const std::map<std::string, std::string>& datatypes,
-              const fs::path& bag) {
-  for (const RosTopicEntry& e : map.topics) {
-    const auto it = datatypes.find(e.topic);
-    if (it == datatypes.end()) {
-      std::string topics;
-      for (const auto& [t, d] : datatypes) topics += (topics.empty() ? "" : ", ") + t;
-      throw InputError(e.where + ": topic '" + e.topic + "' is not in " + bag.string() +
-                       " (its topics: " + topics + ")");
-    }
-    if (!RosbagImportAccepts(e.kind, it->second)) {
-      throw InputError(e.where + ": topic '" + e.topic + "' holds " + it->second +
-                       " messages, which cannot become a sensor of type '" +
-                       std::string(RosTopicKindName(e.kind)) + "'");
-    }
-    if (e.kind == RosTopicKind::kBodyVelocity && it->second == "geometry_msgs/TwistStamped" &&
-        !e.twist_sigma) {
-      throw InputError(e.where + ": topic '" + e.topic +
-                       "' (geometry_msgs/TwistStamped) carries no covariance: give twist_sigma "
-                       "[vx, vy, vz, wx, wy, wz] (m/s, rad/s)");
-    }
-  }
-}
-
 void Record(Stream& s, const Converted& c, TimeNs received_ns, LogWriter& writer) {
   const RosTopicEntry& e = *s.entry;
   const std::string frame = e.frame_id.value_or(c.frame_id);
@@ -273,7 +248,7 @@ RosbagImportResult ImportRosbag(const fs::path& bag_path, const RosTopicMap& map
     rosbag::View all(*bag);
     for (const rosbag::ConnectionInfo* c : all.getConnections()) datatypes[c->topic] = c->datatype;
   }
-  CheckMap(map, datatypes, bag_path);
+  CheckTopicMap(map, datatypes, bag_path);
 
   RosbagImportResult result;
   std::vector<Stream> streams(map.topics.size());

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,12 @@ std::string SuggestTopicMap(const RosbagSummary& summary);
 
 // Whether the import turns messages of `datatype` into sensors of `kind`.
 bool RosbagImportAccepts(RosTopicKind kind, const std::string& datatype);
+
+// Checks a topic map against the bag's topics (topic -> datatype) before anything is written:
+// InputError naming the map's line for a topic the bag lacks, a type the entry cannot take, or
+// a TwistStamped body velocity without twist_sigma.
+void CheckTopicMap(const RosTopicMap& map, const std::map<std::string, std::string>& datatypes,
+                   const std::filesystem::path& bag);
 
 struct RosbagImportOptions {
   TimeNs time_offset_ns = 0;  // added to every stamp and arrival

@@ -6,6 +6,8 @@
 #include "sensors/ros1_bag.hpp"
 #include "sensors/rosbag_import.hpp"
 
+#include "core/error.hpp"
+
 namespace statebench::sensors {
 bool RosbagImportAccepts(RosTopicKind kind, const std::string& datatype) {
   switch (kind) {
@@ -70,6 +72,30 @@ RosbagSummary SummarizeRosbag(const std::filesystem::path& path) {
     throw InputError(path.string() + ": " + e.what());
   }
   return summary;
+}
+
+void CheckTopicMap(const RosTopicMap& map, const std::map<std::string, std::string>& datatypes,
+                   const std::filesystem::path& bag) {
+  for (const RosTopicEntry& e : map.topics) {
+    const auto it = datatypes.find(e.topic);
+    if (it == datatypes.end()) {
+      std::string topics;
+      for (const auto& [t, d] : datatypes) topics += (topics.empty() ? "" : ", ") + t;
+      throw InputError(e.where + ": topic '" + e.topic + "' is not in " + bag.string() +
+                       " (its topics: " + topics + ")");
+    }
+    if (!RosbagImportAccepts(e.kind, it->second)) {
+      throw InputError(e.where + ": topic '" + e.topic + "' holds " + it->second +
+                       " messages, which cannot become a sensor of type '" +
+                       std::string(RosTopicKindName(e.kind)) + "'");
+    }
+    if (e.kind == RosTopicKind::kBodyVelocity && it->second == "geometry_msgs/TwistStamped" &&
+        !e.twist_sigma) {
+      throw InputError(e.where + ": topic '" + e.topic +
+                       "' (geometry_msgs/TwistStamped) carries no covariance: give twist_sigma "
+                       "[vx, vy, vz, wx, wy, wz] (m/s, rad/s)");
+    }
+  }
 }
 
 }  // namespace statebench::sensors
