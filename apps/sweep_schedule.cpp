@@ -11,7 +11,7 @@ std::optional<std::size_t> SweepSchedule::Next() {
   for (std::size_t i = 0; i < groups_.size(); ++i) {
     if (started_[i]) continue;
     const std::string& g = groups_[i];
-    if (running_[g] > 0 && !warm_[g]) continue;  // its first run is still computing the stages
+    if (running_[g] > 0 && !warm_.count(g)) continue;  // its first run is still computing the stages
     started_[i] = true;
     ++started_count_;
     ++running_[g];
@@ -23,7 +23,7 @@ std::optional<std::size_t> SweepSchedule::Next() {
 void SweepSchedule::Finished(std::size_t i) {
   const std::string& g = groups_.at(i);
   --running_[g];
-  warm_[g] = true;
+  warm_.insert(g);
 }
 
 }  // namespace statebench::app

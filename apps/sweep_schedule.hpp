@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,7 @@ class SweepSchedule {
   std::vector<bool> started_;
   std::size_t started_count_ = 0;
   std::map<std::string, int> running_;  // runs under way, by group
-  std::map<std::string, bool> warm_;    // groups with a finished run
+  std::set<std::string> warm_;          // groups with a finished run
 };
 
 }  // namespace statebench::app

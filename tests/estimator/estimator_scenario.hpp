@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "core/measurements.hpp"
 #include "core/random.hpp"
 #include "core/yaml_node.hpp"
+#include "estimator/estimator.hpp"
 #include "estimator/estimator_config.hpp"
 #include "estimator/imu_noise.hpp"
 #include "vehicle_trajectory.hpp"
@@ -144,6 +146,26 @@ inline EstimatorSensorSetup MakeSetup(const ScenarioOptions& o, const std::strin
 // Rotation error (rad, right perturbation), position error (m).
 inline double RotationError(const NavState& est, const NavState& truth) {
   return so3::Log<double>(truth.q_world_imu.conjugate() * est.q_world_imu).norm();
+}
+
+// |yaw error| (rad, wrapped), yaw as so3::ToRollPitchYaw gives it.
+inline double YawError(const NavState& est, const NavState& truth) {
+  return std::abs(so3::WrapAngle(so3::ToRollPitchYaw(est.q_world_imu).z() -
+                                 so3::ToRollPitchYaw(truth.q_world_imu).z()));
+}
+
+// Feeds `stream` in its order and, after each IMU sample, hands on_output(t_ns, estimate) the
+// estimator's output at the sample's stamp (nullopt while it has none).
+template <typename OnOutput>
+void FeedOutputs(Estimator& estimator, const std::vector<Measurement>& stream,
+                 OnOutput&& on_output) {
+  for (const Measurement& m : stream) {
+    estimator.Add(m);
+    if (!std::holds_alternative<ImuSample>(m)) continue;
+    const TimeNs t = HeaderOf(m).stamp_ns;
+    const std::optional<StateEstimate> e = estimator.StateAt(t);
+    on_output(t, e);
+  }
 }
 
 }  // namespace statebench::est::testing

@@ -39,18 +39,14 @@ struct LidarOutcome {
 LidarOutcome RunWithLidar(const Scenario& sc, const std::vector<Measurement>& stream, double eval_from_s) {
   FactorGraphEstimator estimator(MakeSetup(sc.options, kLidarEntry), Options());
   LidarOutcome out;
-  for (const Measurement& m : stream) {
-    estimator.Add(m);
-    if (!std::holds_alternative<ImuSample>(m)) continue;
-    const TimeNs t = HeaderOf(m).stamp_ns;
-    const auto e = estimator.StateAt(t);
-    if (!e) continue;
+  testing::FeedOutputs(estimator, stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
+    if (!e) return;
     if (!e->state.p_world.allFinite() || !e->covariance.allFinite()) ++out.non_finite;
     if (ToSeconds(t) >= eval_from_s) {
       out.max_position_error =
           std::max(out.max_position_error, (e->state.p_world - sc.Truth(t).p_world).norm());
     }
-  }
+  });
   out.diagnostics = estimator.diagnostics();
   for (const UpdateDiagnostics& u : out.diagnostics.updates.recent()) {
     const auto it = u.factors.find("relative_pose");

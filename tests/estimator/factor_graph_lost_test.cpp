@@ -56,14 +56,10 @@ LostOutcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, con
   FactorGraphEstimator estimator(testing::MakeSetup(sc.options), options);
   LostOutcome out;
   const double end_s = sc.options.start_s + sc.options.duration_s;
-  for (const Measurement& m : stream) {
-    estimator.Add(m);
-    if (!std::holds_alternative<ImuSample>(m)) continue;
-    const TimeNs t = HeaderOf(m).stamp_ns;
-    const auto e = estimator.StateAt(t);
+  testing::FeedOutputs(estimator, stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
     if (!e) {
       out.missing_after_init += estimator.diagnostics().initialized ? 1 : 0;
-      continue;
+      return;
     }
     if (!e->state.p_world.allFinite() || !e->covariance.allFinite()) ++out.non_finite;
     const auto [it, first] =
@@ -73,7 +69,7 @@ LostOutcome Feed(const Scenario& sc, const std::vector<Measurement>& stream, con
       const Vec3 expected = sc.Truth(t).p_world + final_offset;
       out.final_error_m = std::max(out.final_error_m, (e->state.p_world - expected).norm());
     }
-  }
+  });
   out.diagnostics = estimator.diagnostics();
   return out;
 }
@@ -199,23 +195,14 @@ TEST(FactorGraphLost, ANinetyDegreeYawErrorAtTheStartIsRecoveredFromGnssAlone) {
     double last_far_s = sc.options.start_s;  // the last output more than 2 m off
     int non_finite = 0;
     double final_rotation_error_rad = NAN;
-    for (const Measurement& m : stream) {
-      estimator.Add(m);
-      if (!std::holds_alternative<ImuSample>(m)) continue;
-      const TimeNs t = HeaderOf(m).stamp_ns;
-      const auto e = estimator.StateAt(t);
-      if (!e) continue;
+    testing::FeedOutputs(estimator, stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
+      if (!e) return;
       if (!e->state.p_world.allFinite() || !e->covariance.allFinite()) ++non_finite;
       const NavState truth = sc.Truth(t);
-      if (!first_yaw_error_rad) {
-        const Vec3 f_est = e->state.q_world_imu * Vec3::UnitX();
-        const Vec3 f_true = truth.q_world_imu * Vec3::UnitX();
-        first_yaw_error_rad = std::abs(so3::WrapAngle(std::atan2(f_est.y(), f_est.x()) -
-                                                      std::atan2(f_true.y(), f_true.x())));
-      }
+      if (!first_yaw_error_rad) first_yaw_error_rad = testing::YawError(e->state, truth);
       if ((e->state.p_world - truth.p_world).norm() > 2.0) last_far_s = ToSeconds(t);
       final_rotation_error_rad = testing::RotationError(e->state, truth);
-    }
+    });
     const EstimatorDiagnostics& d = estimator.diagnostics();
     std::printf("seed %llu: initial yaw error %.0f deg, lost %zu times, within 2 m from %.1f s "
                 "after the start, final attitude error %.2f deg\n",

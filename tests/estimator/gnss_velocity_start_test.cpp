@@ -50,17 +50,10 @@ VelocityStartResult RunVelocityStart(const ScenarioOptions& so,
   options.initialization.mode = mode;
   FactorGraphEstimator estimator(MakeSetup(so), options);
   VelocityStartResult r;
-  for (const Measurement& m : sc.stream) {
-    estimator.Add(m);
-    if (!std::holds_alternative<ImuSample>(m)) continue;
-    const TimeNs t = HeaderOf(m).stamp_ns;
-    if (ToSeconds(t) < so.motion_start_s + 10.0) continue;
-    if (const auto e = estimator.StateAt(t)) {
-      const double yaw = so3::ToRollPitchYaw(e->state.q_world_imu).z();
-      const double truth = so3::ToRollPitchYaw(sc.Truth(t).q_world_imu).z();
-      r.max_yaw_error_rad = std::max(r.max_yaw_error_rad, std::abs(so3::WrapAngle(yaw - truth)));
-    }
-  }
+  testing::FeedOutputs(estimator, sc.stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
+    if (!e || ToSeconds(t) < so.motion_start_s + 10.0) return;
+    r.max_yaw_error_rad = std::max(r.max_yaw_error_rad, testing::YawError(e->state, sc.Truth(t)));
+  });
   const EstimatorDiagnostics& d = estimator.diagnostics();
   r.method = d.initialization;
   if (d.initialized) r.init_after_motion_s = ToSeconds(d.initialized_at_ns) - so.motion_start_s;
