@@ -55,12 +55,25 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
     }
     lost.push_back(j);
   }
+  nlohmann::json enu_switches = nlohmann::json::array();
+  for (const est::EnuSwitch& s : d.enu_switches) {
+    enu_switches.push_back({{"at_s", ToSeconds(s.at_ns)},
+                            {"fixes", s.fixes},
+                            {"span_m", s.span_m},
+                            {"yaw_rad", s.yaw_rad},
+                            {"translation_m", s.translation_m},
+                            {"yaw_sigma_rad", s.yaw_sigma_rad},
+                            {"sigma_h_m", s.sigma_h_m},
+                            {"residual_sigma_h_m", s.residual_sigma_h_m}});
+  }
   return {{"initialized", d.initialized},
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
           {"initialization", d.initialization},
           {"waiting_for", d.waiting_for.empty() ? nlohmann::json() : nlohmann::json(d.waiting_for)},
           {"warnings", d.warnings},
           {"lost", lost},
+          {"local_frame", d.local_frame},
+          {"enu_switches", enu_switches},
           {"sensors", sensors},
           {"updates",
            {{"count", u.count()},

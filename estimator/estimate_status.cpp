@@ -6,7 +6,7 @@ namespace statebench::est {
 
 EstimateStatus StatusAt(const EstimatorDiagnostics& diagnostics,
                         const std::vector<std::string>& position_sensors, TimeNs t_ns) {
-  if (position_sensors.empty()) return EstimateStatus::kLocal;
+  if (position_sensors.empty() || diagnostics.local_frame) return EstimateStatus::kLocal;
   if (!diagnostics.lost.empty()) {
     const auto reinitialized = diagnostics.lost.back().reinitialized_ns;
     if (reinitialized && t_ns - *reinitialized < FromSeconds(kRecoveringForS)) {

@@ -2,6 +2,7 @@
 // and per sensor (measurements accepted, rejected by reason, down-weighted by a robust kernel).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -131,6 +132,19 @@ struct LostEpisode {
   std::string reinitialization;            // how, e.g. "moving (gnss course)"
 };
 
+// A start in a local frame moved into ENU (a setup with GNSS whose yaw was not observable at
+// the start: enu_alignment.hpp). Estimates before at_ns are in the local frame (status `local`).
+struct EnuSwitch {
+  TimeNs at_ns = 0;
+  int fixes = 0;         // aligned against the local track
+  double span_m = 0.0;   // their largest distance from their centroid
+  double yaw_rad = 0.0;  // p_enu = Rz(yaw) p_local + translation
+  std::array<double, 3> translation_m = {0.0, 0.0, 0.0};
+  double yaw_sigma_rad = 0.0;
+  double sigma_h_m = 0.0;           // per fix and horizontal axis, as used
+  double residual_sigma_h_m = 0.0;  // from the fit's residuals
+};
+
 struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
@@ -148,6 +162,10 @@ struct EstimatorDiagnostics {
   // gated out for longer than gate_reset_s while the fixes agreed with each other, or an IMU
   // gap), and how it re-initialised each time.
   std::vector<LostEpisode> lost;
+  // The estimate is in a local frame now (a setup without GNSS, or one whose start came before
+  // the GNSS could give the yaw), and each time such a start moved into ENU.
+  bool local_frame = false;
+  std::vector<EnuSwitch> enu_switches;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   UpdateLog updates;
 

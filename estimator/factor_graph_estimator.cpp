@@ -19,13 +19,16 @@
 namespace statebench::est {
 namespace {
 
+// Without GNSS: a local frame. With GNSS and body-frame odometry: a local frame until the GNSS
+// can place it in ENU (without odometry, the IMU alone drifts too fast to align its track).
 LocalStart LocalStartOf(const EstimatorSensorSetup& setup) {
   LocalStart local;
-  local.enabled = setup.PositionSensorIds().empty();
   for (const EstimatorSensor& s : setup.sensors) {
     local.has_odometry |=
         s.kind == SensorKind::kBodyVelocity || s.kind == SensorKind::kSpeedEncoder;
   }
+  local.enu_later = !setup.PositionSensorIds().empty();
+  local.enabled = !local.enu_later || local.has_odometry;
   return local;
 }
 
@@ -83,6 +86,7 @@ struct FactorGraphEstimator::Impl {
   }
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
+  std::optional<ImuSample> last_released_imu;  // the sample at lagged_ns
   TimeNs next_solve_ns = 0;
   bool keep_smoothed = false;
   std::vector<NavState> smoothed;  // left the window, not taken yet (when kept)
@@ -154,13 +158,18 @@ struct FactorGraphEstimator::Impl {
       }
     }
     for (MeasurementFrontEnd* f : front_ends) f->EndOfStamp();
-    if (ctx.lost) StartOver();
+    if (ctx.lost) {
+      StartOver();
+    } else if (ctx.enu_switch) {
+      SwitchToEnu();
+    }
   }
 
   // Lost (a front end said so): an empty window and initialiser, fed again from the next IMU
   // sample; no estimate until initialised again.
   void StartOver() {
     ctx.Restart();
+    ctx.diag.local_frame = false;
     blend.Reset();
     for (MeasurementFrontEnd* f : front_ends) f->OnRestart();
   }
@@ -168,6 +177,7 @@ struct FactorGraphEstimator::Impl {
   void ProcessImu(const ImuSample& s) {
     ctx.smoother.AddImu(s);
     lagged_ns = s.header.stamp_ns;
+    last_released_imu = s;
     for (MeasurementFrontEnd* f : front_ends) f->OnImu(s);
     if (!ctx.initialized) TryInitialize(s);
   }
@@ -190,11 +200,50 @@ struct FactorGraphEstimator::Impl {
       return;  // covariance not positive definite: same
     }
     ctx.initialized = true;
+    ctx.local_frame = init->local_frame && !position_sensors.empty();
+    ctx.diag.local_frame = init->local_frame;
     ctx.diag.Initialized(x.t_ns, init->method);
     ctx.output.SetAnchor(PropagatedState{x, init->covariance});
     blend.Reset();  // nothing was shown before
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
     for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);
+  }
+
+  // ---- 3b. From a local frame into ENU ------------------------------------------------------
+
+  // The fixes placed the local frame in ENU (enu_alignment.hpp). The state at the newest
+  // released IMU sample, moved into ENU with the alignment's uncertainty added, starts a new
+  // window: its marginal covariance carries what the old window knew (biases, velocity, tilt,
+  // their correlations); the IMU-rate output goes on from it through the buffered samples, with
+  // no gap. Estimates before the switch are in the local frame (status `local`), after it in ENU;
+  // the output's step at the switch is the change of frame (diagnostics: enu_switches).
+  void SwitchToEnu() {
+    const EnuAlignment::Result a = *ctx.enu_switch;
+    ctx.enu_switch.reset();
+    const std::optional<PropagatedState> now = ctx.output.AfterAnchor(lagged_ns);
+    if (!now || !last_released_imu || last_released_imu->header.stamp_ns != lagged_ns) return;
+    const PropagatedState enu = a.Apply(*now);
+    ctx.RestartSmoother();
+    ctx.smoother.AddImu(*last_released_imu);
+    try {
+      ctx.smoother.Initialize(enu.state, enu.covariance);
+    } catch (const InputError&) {  // not positive definite: start over from the sensors
+      ctx.diag.Lost(lagged_ns, "enu_switch");
+      return StartOver();
+    }
+    ctx.output.SetAnchor(enu);
+    blend.Reset();
+    next_solve_ns = lagged_ns + FromSeconds(options.solve_interval_s);
+    ctx.local_frame = false;
+    ctx.diag.local_frame = false;
+    ctx.diag.enu_switches.push_back({lagged_ns,
+                                     a.fixes,
+                                     a.span_m,
+                                     a.yaw_rad,
+                                     {a.translation.x(), a.translation.y(), a.translation.z()},
+                                     a.yaw_sigma_rad,
+                                     a.sigma_h_m,
+                                     a.residual_sigma_h_m});
   }
 
   // ---- 4. Solve ------------------------------------------------------------------------------
@@ -253,8 +302,8 @@ void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(meas
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
   const std::optional<LocalEnuFrame>& enu = impl_->front_end_set.gnss->frame();
-  const LocalEnuFrame* frame =
-      impl_->position_sensors.empty() ? &impl_->local_frame : (enu ? &*enu : nullptr);
+  const bool local = impl_->position_sensors.empty() || impl_->ctx.local_frame;
+  const LocalEnuFrame* frame = local ? &impl_->local_frame : (enu ? &*enu : nullptr);
   if (!p || frame == nullptr) return std::nullopt;
   // The calibration share at the best estimate; the blend's offset on top (output_blend.hpp).
   const Mat15 consider = impl_->CalibrationConsider(p->state);

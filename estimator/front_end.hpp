@@ -17,6 +17,7 @@
 #include "core/measurements.hpp"
 #include "core/state.hpp"
 #include "core/time.hpp"
+#include "estimator/enu_alignment.hpp"
 #include "estimator/estimator_diagnostics.hpp"
 #include "estimator/imu_rate_output.hpp"
 #include "estimator/sliding_window_smoother.hpp"
@@ -51,16 +52,28 @@ class FrontEndContext {
   TimeNs newest_imu_ns = INT64_MIN;  // newest accepted IMU sample (not yet released)
   // Set by a front end that finds the estimate lost; the orchestrator then starts over.
   bool lost = false;
+  // The estimate is in a local frame while the setup has a GNSS antenna (LocalStart::enu_later):
+  // the GNSS front end aligns the local track with the fixes and, once they give the yaw, sets
+  // enu_switch; the orchestrator then moves the estimate into ENU.
+  bool local_frame = false;
+  std::optional<EnuAlignment::Result> enu_switch;
 
   // Starts over: an empty smoother and initialiser, no output until initialised again (the
   // counters and the diagnostics stay).
   void Restart() {
-    std::destroy_at(&smoother);
-    std::construct_at(&smoother, smoother_options_);
+    RestartSmoother();
     initializer = StateInitializer(initialization_, noise_, forward_imu_, local_);
     output = ImuRateOutput(noise_);
     initialized = false;
     lost = false;
+    local_frame = false;
+    enu_switch.reset();
+  }
+
+  // An empty smoother (the orchestrator initialises it again).
+  void RestartSmoother() {
+    std::destroy_at(&smoother);
+    std::construct_at(&smoother, smoother_options_);
   }
 
   // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window

@@ -91,6 +91,7 @@ Vec3 GnssFrontEnd::RecentGyro(TimeNs t_ns) const {
 }
 
 void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
+  alignment_.Clear();
   gnss_gate_.last_accepted_ns = heading_gate_.last_accepted_ns = t_ns;
   velocity_gate_.last_accepted_ns = t_ns;
 }
@@ -98,6 +99,7 @@ void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
 void GnssFrontEnd::OnRestart() {
   accepted_.clear();
   refused_.Clear();
+  alignment_.Clear();
   gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{};
 }
 
@@ -118,6 +120,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     ctx_.Accept(id, fix.header.stamp_ns);
     return ctx_.initializer.AddPosition(fix, lever);
   }
+  if (ctx_.local_frame) return AlignLocalFrame(fix, lever);
   if (fix.velocity) AddVelocity(in);
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
     fix.covariance += PositionCalibrationCovariance(
@@ -150,6 +153,22 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   a.fix = fix;
   a.p_imu_antenna = lever;
   accepted_.push_back(a);
+}
+
+void GnssFrontEnd::AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
+  const std::string& id = fix.header.sensor_id;
+  const TimeNs t = fix.header.stamp_ns;
+  const std::optional<PropagatedState> predicted = ctx_.PredictAt(t);
+  if (!predicted) return ctx_.Reject(id, t, RejectReason::kTooOld);
+  const NavState& x = predicted->state;
+  alignment_.Add(t, x.p_world + x.q_world_imu * p_imu_antenna, fix.p_enu, fix.covariance);
+  ctx_.Accept(id, t);
+  ctx_.Count(id, "enu_alignment");
+  const std::optional<EnuAlignment::Result> r = alignment_.Solve();
+  if (!r || r->yaw_sigma_rad > options_.initialization.course_yaw_sigma_rad) return;
+  ctx_.enu_switch = r;
+  alignment_.Clear();
+  gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{t, false};
 }
 
 void GnssFrontEnd::AddVelocity(const PositionInput& in) {
@@ -188,6 +207,7 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
     ctx_.Accept(id, t);
     return ctx_.initializer.AddHeading(in.heading, in.baseline_imu);
   }
+  if (ctx_.local_frame) return ctx_.Reject(id, t, RejectReason::kNotInitialized);
   DualAntennaHeading heading = in.heading;
   const HeadingCalibrationVariance calibration =
       HeadingCalibration(options_.gnss_calibration, in.baseline_imu);

@@ -9,6 +9,12 @@
 // counted as the antenna's events velocity_factors / velocity_gated / velocity_too_noisy.
 // Accepted measurements are kept until they leave the window to count those the robust kernel
 // down-weighted at the final estimate.
+// While the estimate is in a local frame (a start before the GNSS could give the yaw:
+// LocalStart::enu_later), each fix instead pairs the antenna's local position at its stamp with
+// the fix (enu_alignment.hpp; accepted, event `enu_alignment`); once their alignment gives the
+// yaw to initialization.course_yaw_sigma_rad (what a GNSS course start takes), the front end asks
+// the orchestrator to move the estimate into ENU (FrontEndContext::enu_switch). Headings and
+// Doppler velocities wait for ENU (headings rejected as not_initialized).
 #pragma once
 
 #include <deque>
@@ -65,6 +71,8 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   bool PassesGate(const MeasurementGateOptions& gate, GateState& state, TimeNs t_ns,
                   double mahalanobis_squared);
   void AddPosition(const PositionInput& in);
+  // In a local frame (FrontEndContext::local_frame): the fix aligns the local track with ENU.
+  void AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
   void AddVelocity(const PositionInput& in);
   // The raw gyro of the released sample nearest t_ns (zero before any).
   Vec3 RecentGyro(TimeNs t_ns) const;
@@ -83,6 +91,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
   RefusedFixTrack refused_;
+  EnuAlignment alignment_;  // while the estimate is in a local frame
   bool heading_pitch_seen_ = false;
 };
 

@@ -286,7 +286,13 @@ std::optional<StateInitializer::Anchor> StateInitializer::VelocityAnchor(
 }
 
 std::optional<InitialState> StateInitializer::TryInitialize() {
+  if (local_.enabled && !local_.enu_later) return TryInitializeLocal();
+  if (std::optional<InitialState> enu = TryInitializeEnu()) return enu;
   if (local_.enabled) return TryInitializeLocal();
+  return std::nullopt;
+}
+
+std::optional<InitialState> StateInitializer::TryInitializeEnu() {
   if (imu_.empty() || fixes_.empty()) return std::nullopt;
   const InitializationMode mode = options_.mode;
   const bool use_still = still_.has_value() && mode != InitializationMode::kMoving;

@@ -31,9 +31,10 @@
 // Covariance: diagonal in roll/pitch/yaw (world frame, mapped to the right perturbation
 // R^T diag(...) R), position from the fix, velocity and biases from the options.
 //
-// Without an absolute-position sensor (no GNSS antenna: LocalStart::enabled) the first state is
-// in a local frame: position 0 and the vehicle's forward axis along x (yaw 0) at the
-// initialisation stamp, both known to kLocalPositionSigmaM / kLocalYawSigmaRad (the prior is
+// Without an absolute-position sensor (no GNSS antenna: LocalStart::enabled), or with one whose
+// fixes cannot start it yet while body-frame odometry is in the setup (LocalStart::enu_later),
+// the first state is in a local frame: position 0 and the vehicle's forward axis along x (yaw 0) at
+// the initialisation stamp, both known to kLocalPositionSigmaM / kLocalYawSigmaRad (the prior is
 // what anchors them: neither is observable). Tilt and gyro bias from a still period (the
 // odometry, when the setup has one, must read zero over it), or, while moving, tilt and
 // velocity from the body-frame odometry (odometry_alignment.hpp) over kOdometryWindowS.
@@ -62,12 +63,16 @@ struct InitialState {
   // "static (dual antenna)", "moving (gnss course)", "static (local frame)",
   // "moving (odometry, local frame)", ...
   std::string method;
+  bool local_frame = false;  // position 0 and yaw 0 at the start (TryInitializeLocal)
 };
 
-// How a setup without an absolute-position sensor starts (not used when it has one).
+// How a setup starts in a local frame: without an absolute-position sensor always; with one
+// (enu_later) only as long as the GNSS cannot start it in ENU, the estimator then moving the
+// local frame into ENU once the fixes give the yaw (enu_alignment.hpp).
 struct LocalStart {
-  bool enabled = false;       // no GNSS antenna: start in a local frame
+  bool enabled = false;       // a start in a local frame is allowed
   bool has_odometry = false;  // body-frame velocity (body_velocity, speed encoder) in the setup
+  bool enu_later = false;     // a GNSS antenna in the setup: a GNSS start first, else local
 };
 
 inline constexpr double kLocalPositionSigmaM = 1e-3;  // prior of the local frame's origin
@@ -141,7 +146,9 @@ class StateInitializer {
   // Whether the odometry stamped in [from_ns, to_ns] reads zero (each measured component's mean
   // within static_max_speed_mps, 3 sigma); true without odometry in the setup.
   bool OdometryProvesStandstill(TimeNs from_ns, TimeNs to_ns) const;
-  // The start in a local frame (state_initializer_local.cpp).
+  // The start in ENU from the GNSS (state_initializer.cpp) and in a local frame
+  // (state_initializer_local.cpp).
+  std::optional<InitialState> TryInitializeEnu();
   std::optional<InitialState> TryInitializeLocal();
   std::optional<OdometryAlignment> AlignOverOdometryWindow() const;
   std::string StillWaitingFor() const;

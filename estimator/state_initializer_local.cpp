@@ -116,6 +116,7 @@ std::optional<InitialState> StateInitializer::TryInitializeLocal() {
   P.block<3, 3>(kAccelBiasIndex, kAccelBiasIndex) =
       o.accel_bias_sigma_mps2 * o.accel_bias_sigma_mps2 * Mat3::Identity();
   out.method = method;
+  out.local_frame = true;
   return out;
 }
 
