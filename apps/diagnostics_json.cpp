@@ -24,6 +24,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                    {"downweighted", c.downweighted},
                    {"events", c.events},
                    {"last_accepted_s", ToSeconds(c.last_accepted_ns)}};
+    if (c.covariance_scale) sensors[id]["covariance_scale"] = *c.covariance_scale;
   }
   const est::UpdateLog& u = d.updates;
   nlohmann::json periods = nlohmann::json::array();

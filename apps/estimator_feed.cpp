@@ -88,8 +88,12 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
       continue;
     }
     // A local-frame estimate (no GNSS) has no meaningful WGS84 position: kept as it is.
-    if (frame_ && e->status != EstimateStatus::kLocal)
+    const bool local = e->status == EstimateStatus::kLocal;
+    if (frame_ && !local)
       e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+    // The step from a local estimate to an ENU one is the change of frame, not a jump.
+    if (local != f.last_local) f.steps.Break();
+    f.last_local = local;
     f.steps.Add(e->state, imu->gyro);
     {
       const StageScope writing(Stage::kWriting);

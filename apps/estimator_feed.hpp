@@ -40,6 +40,7 @@ struct FedEstimator {
   std::size_t finite_estimates = 0;
   StageTimes time;  // spent in its calls (its lidar odometry included; not writing)
   reports::OwnMotionStepMeter steps;  // truth-free output steps (diagnostics.json output_step)
+  bool last_local = false;  // the last estimate was in a local frame (status local)
 };
 
 // What the scoring of one estimator gives: diagnostics.json and metrics.json (written), and the

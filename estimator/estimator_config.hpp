@@ -135,6 +135,9 @@ struct MeasurementGateOptions {
   // gate lets the next one through (recovery after a divergence); the kernel still applies.
   double gate_reset_s = 10.0;
   RobustKernel kernel;
+  // Scale the reported covariance by what the innovations' consistency across measurements says
+  // (estimator/innovation_scale.hpp; never below the reported one). GNSS positions only.
+  bool adapt_covariance = false;
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_
@@ -168,7 +171,7 @@ struct FactorGraphOptions {
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   InitializationOptions initialization;
-  MeasurementGateOptions gnss;                                       // defaults above
+  MeasurementGateOptions gnss{.adapt_covariance = true};             // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
   MeasurementGateOptions gnss_velocity{1.0, 16.27, 10.0, RobustKernel{}};  // m/s; chi-square(3)
   GnssCalibrationUncertainty gnss_calibration;

@@ -55,6 +55,9 @@ struct SensorCounters {
   // "empty scan" rejections, an encoder's "integration restarted" after a gap.
   std::map<std::string, std::uint64_t> events;
   TimeNs last_accepted_ns = 0;  // stamp of the newest accepted measurement (0: none)
+  // The factor the estimator applies to the reported covariance, when it adapts it (GNSS
+  // positions: innovation_scale.hpp); nullopt while it never changed from 1.
+  std::optional<double> covariance_scale;
 
   // Counts an accepted measurement stamped stamp_ns.
   void Accept(TimeNs stamp_ns);

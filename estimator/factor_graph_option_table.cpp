@@ -34,7 +34,8 @@ OptionTable<RobustKernel> KernelTable() {
   return t;
 }
 
-OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char* unit) {
+OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char* unit,
+                                              bool adapt_covariance = false) {
   OptionTable<MeasurementGateOptions> t("gate");
   t.Number(sigma_key, &MeasurementGateOptions::max_sigma, Range::Positive(),
            std::string("discard above this reported sigma (") + unit +
@@ -45,6 +46,10 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
               "after this long with only rejections, the next one passes")
       .Section("robust_kernel", &MeasurementGateOptions::kernel, KernelTable(),
                "robust loss of the factor");
+  if (adapt_covariance) {
+    t.Flag("adapt_covariance", &MeasurementGateOptions::adapt_covariance,
+           "scale the reported covariance up when the innovations say it is too small");
+  }
   return t;
 }
 
@@ -264,7 +269,7 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Section("imu_noise", &F::imu_noise, ImuNoiseOptionTable(),
                "IMU noise (Kalibr units); a setup's imu entry may override it")
       .Section("initialization", &F::initialization, InitializationTable(), "first state")
-      .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m"), "GNSS position factors")
+      .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m", true), "GNSS position factors")
       .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),
                "dual-antenna heading factors")
       .Section("gnss_velocity", &F::gnss_velocity, GateTable("max_sigma_mps", "m/s"),

@@ -122,10 +122,19 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   }
   if (ctx_.local_frame) return AlignLocalFrame(fix, lever);
   if (fix.velocity) AddVelocity(in);
+  InnovationScale* scale = nullptr;
+  if (options_.gnss.adapt_covariance) {
+    scale = &covariance_scales_.try_emplace(id, 3, options_.gnss.gate_chi2).first->second;
+    fix.covariance *= scale->scale();
+  }
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
     fix.covariance += PositionCalibrationCovariance(
         options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
     const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
+    if (scale != nullptr && scale->Add(d2)) {
+      ctx_.Count(id, "covariance_scale_changed");
+      ctx_.Counters(id).covariance_scale = scale->scale();
+    }
     const bool outside = d2 > options_.gnss.gate_chi2;
     if (outside) refused_.Refused(fix);
     if (!PassesGate(options_.gnss, gnss_gate_, fix.header.stamp_ns, d2)) {

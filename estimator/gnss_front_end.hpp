@@ -3,6 +3,10 @@
 // covariance threshold, paired into headings where the setup says so (GroupStamp), gated on
 // their Mahalanobis distance to the prediction (with a reset after gate_reset_s of rejections),
 // and become position and heading factors; before the first state they feed the initialiser.
+// With gnss.adapt_covariance a fix's reported covariance is first multiplied by its antenna's
+// innovation scale (innovation_scale.hpp: the median of the fixes' Mahalanobis distances, gated
+// ones included, against chi-square(3)'s; counted as the event covariance_scale_changed, the
+// scale in the sensor's diagnostics).
 // A fix's Doppler velocity (when the receiver gives one) becomes a world-frame velocity factor
 // of its antenna (body_velocity_factor.hpp, Frame::kWorld), discarded above gnss_velocity's
 // max_sigma and gated on its own Mahalanobis distance (raw gyro of the stamp for the lever arm);
@@ -26,6 +30,7 @@
 #include "estimator/estimator_config.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/gnss_stamp_group.hpp"
+#include "estimator/innovation_scale.hpp"
 #include "estimator/refused_fix_track.hpp"
 
 namespace statebench::est {
@@ -92,6 +97,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
   RefusedFixTrack refused_;
   EnuAlignment alignment_;  // while the estimate is in a local frame
+  std::map<std::string, InnovationScale> covariance_scales_;  // by antenna (gnss.adapt_covariance)
   bool heading_pitch_seen_ = false;
 };
 

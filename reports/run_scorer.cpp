@@ -126,11 +126,15 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
       ++e.availability.span_epochs;
       if (c && Finite(c->state)) ++e.availability.span_finite_estimates;
     }
-    if (!c) {  // no estimate at this epoch: no output step across it
+    // No estimate at this epoch, or a change of frame (a local start moved into ENU): no output
+    // step across it.
+    const bool local = c && c->status == EstimateStatus::kLocal;
+    if (!c || local != e.last_local) {
       e.scorer.Break();
       for (TrajectoryScorer& w : e.outage_scorers) w.Break();
-      continue;
     }
+    e.last_local = local;
+    if (!c) continue;
     if (!in_span) {
       e.scorer.Skip();
       continue;

@@ -89,6 +89,7 @@ class RunScorer {
     std::vector<TrajectoryScorer> outage_scorers;
     Availability availability;
     std::optional<TimeNs> first_finite_ns;
+    bool last_local = false;  // the last estimate's status was local
   };
 
   void Pair(const Epoch& epoch);  // the truth covers it
