@@ -26,7 +26,8 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
   const std::string& id = v.header.sensor_id;
   const EstimatorSensor& sensor = *setup_.Find(id);
   if (!ctx_.initialized) {
-    // A setup without GNSS starts from the odometry (state_initializer.hpp).
+    // A setup without GNSS, or with GNSS that cannot start it yet, starts from the odometry in a
+    // local frame (state_initializer.hpp).
     if (!ctx_.initializer.local().enabled) {
       return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
     }

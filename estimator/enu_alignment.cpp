@@ -65,7 +65,8 @@ std::optional<EnuAlignment::Result> EnuAlignment::Solve() const {
   return r;
 }
 
-PropagatedState EnuAlignment::Result::Apply(const PropagatedState& local) const {
+PropagatedState EnuAlignment::Result::Apply(const PropagatedState& local,
+                                            double min_yaw_sigma_rad) const {
   const Quat q_yaw(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
   const Mat3 R = q_yaw.toRotationMatrix();
   PropagatedState out = local;
@@ -87,7 +88,8 @@ PropagatedState EnuAlignment::Result::Apply(const PropagatedState& local) const 
   J.block<3, 1>(kPositionIndex, 0) = z.cross(x.p_world - centroid_enu);
   J.block<3, 1>(kVelocityIndex, 0) = z.cross(x.v_world);
   J.block<3, 3>(kPositionIndex, 1) = Mat3::Identity();
-  const Vec4 variance(yaw_sigma_rad * yaw_sigma_rad, centroid_sigma.x() * centroid_sigma.x(),
+  const double yaw_sigma = std::max(yaw_sigma_rad, min_yaw_sigma_rad);
+  const Vec4 variance(yaw_sigma * yaw_sigma, centroid_sigma.x() * centroid_sigma.x(),
                       centroid_sigma.y() * centroid_sigma.y(),
                       centroid_sigma.z() * centroid_sigma.z());
   out.covariance += J * variance.asDiagonal() * J.transpose();

@@ -40,8 +40,8 @@ class EnuAlignment {
     double span_m = 0.0;  // largest distance of a fix from the centroid, local frame
 
     // The state moved into ENU, its covariance with the alignment's uncertainty added (yaw about
-    // the vertical, the centroid's position; first order).
-    PropagatedState Apply(const PropagatedState& local) const;
+    // the vertical, its sigma at least min_yaw_sigma_rad; the centroid's position; first order).
+    PropagatedState Apply(const PropagatedState& local, double min_yaw_sigma_rad = 0.0) const;
   };
 
   // Fixes older than this before the newest one are forgotten (the local track drifts).

@@ -222,7 +222,9 @@ struct FactorGraphEstimator::Impl {
     ctx.enu_switch.reset();
     const std::optional<PropagatedState> now = ctx.output.AfterAnchor(lagged_ns);
     if (!now || !last_released_imu || last_released_imu->header.stamp_ns != lagged_ns) return;
-    const PropagatedState enu = a.Apply(*now);
+    // The yaw prior at least what a GNSS course start takes: the fit does not model the local
+    // track's own error.
+    const PropagatedState enu = a.Apply(*now, options.initialization.course_yaw_sigma_rad);
     ctx.RestartSmoother();
     ctx.smoother.AddImu(*last_released_imu);
     try {

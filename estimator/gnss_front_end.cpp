@@ -174,7 +174,13 @@ void GnssFrontEnd::AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu
   ctx_.Accept(id, t);
   ctx_.Count(id, "enu_alignment");
   const std::optional<EnuAlignment::Result> r = alignment_.Solve();
-  if (!r || r->yaw_sigma_rad > options_.initialization.course_yaw_sigma_rad) return;
+  // As a GNSS course start: the yaw to course_yaw_sigma_rad and fixes over course_min_distance_m
+  // (a short track's own error, not in the fit, would dominate its yaw).
+  const InitializationOptions& o = options_.initialization;
+  if (!r || r->yaw_sigma_rad > o.course_yaw_sigma_rad ||
+      2.0 * r->span_m < o.course_min_distance_m) {
+    return;
+  }
   ctx_.enu_switch = r;
   alignment_.Clear();
   gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{t, false};

@@ -16,7 +16,8 @@
 // While the estimate is in a local frame (a start before the GNSS could give the yaw:
 // LocalStart::enu_later), each fix instead pairs the antenna's local position at its stamp with
 // the fix (enu_alignment.hpp; accepted, event `enu_alignment`); once their alignment gives the
-// yaw to initialization.course_yaw_sigma_rad (what a GNSS course start takes), the front end asks
+// yaw to initialization.course_yaw_sigma_rad over fixes spread over course_min_distance_m (twice
+// their largest distance from their centroid; what a GNSS course start takes), the front end asks
 // the orchestrator to move the estimate into ENU (FrontEndContext::enu_switch). Headings and
 // Doppler velocities wait for ENU (headings rejected as not_initialized).
 #pragma once

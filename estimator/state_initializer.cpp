@@ -288,8 +288,18 @@ std::optional<StateInitializer::Anchor> StateInitializer::VelocityAnchor(
 std::optional<InitialState> StateInitializer::TryInitialize() {
   if (local_.enabled && !local_.enu_later) return TryInitializeLocal();
   if (std::optional<InitialState> enu = TryInitializeEnu()) return enu;
-  if (local_.enabled) return TryInitializeLocal();
+  // With GNSS, a local start only where a GNSS course would come late (or no fix came yet):
+  // fixes noisy enough that a course needs a chord longer than course_min_distance_m (15 sigma,
+  // CourseReference). Precise fixes give the course after course_min_distance_m, where the
+  // local frame's alignment would move into ENU too (gnss_front_end.hpp): a local start would
+  // add a frame change and nothing else.
+  if (local_.enabled && (fixes_.empty() || !PreciseFixes())) return TryInitializeLocal();
   return std::nullopt;
+}
+
+bool StateInitializer::PreciseFixes() const {
+  const Mat3& c = fixes_.back().fix.covariance;
+  return 15.0 * std::sqrt(c(0, 0) + c(1, 1)) <= options_.course_min_distance_m;
 }
 
 std::optional<InitialState> StateInitializer::TryInitializeEnu() {

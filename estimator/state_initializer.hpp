@@ -32,8 +32,9 @@
 // R^T diag(...) R), position from the fix, velocity and biases from the options.
 //
 // Without an absolute-position sensor (no GNSS antenna: LocalStart::enabled), or with one whose
-// fixes cannot start it yet while body-frame odometry is in the setup (LocalStart::enu_later),
-// the first state is in a local frame: position 0 and the vehicle's forward axis along x (yaw 0) at
+// fixes cannot start it yet while body-frame odometry is in the setup (LocalStart::enu_later)
+// and no fix came or the fixes are too noisy for a course over course_min_distance_m, the first
+// state is in a local frame: position 0 and the vehicle's forward axis along x (yaw 0) at
 // the initialisation stamp, both known to kLocalPositionSigmaM / kLocalYawSigmaRad (the prior is
 // what anchors them: neither is observable). Tilt and gyro bias from a still period (the
 // odometry, when the setup has one, must read zero over it), or, while moving, tilt and
@@ -150,6 +151,8 @@ class StateInitializer {
   // (state_initializer_local.cpp).
   std::optional<InitialState> TryInitializeEnu();
   std::optional<InitialState> TryInitializeLocal();
+  // The newest fix is precise enough for a GNSS course over course_min_distance_m.
+  bool PreciseFixes() const;
   std::optional<OdometryAlignment> AlignOverOdometryWindow() const;
   std::string StillWaitingFor() const;
   std::string LocalWaitingFor() const;
