@@ -7,18 +7,14 @@
 #include <string>
 
 #include "core/yaml_node.hpp"
+#include "any_line_contains.hpp"
 #include "ekf_test_drive.hpp"
 #include "estimator/ekf_single_track.hpp"
 
 namespace statebench::est {
 namespace {
 
-bool AnyContains(const std::vector<std::string>& lines, const std::string& text) {
-  for (const std::string& l : lines) {
-    if (l.find(text) != std::string::npos) return true;
-  }
-  return false;
-}
+using testing::AnyContains;
 
 TEST(EkfInputCheck, AFullSetupOfItsOwnVehicleHasNoWarningButTheSensorsItIgnores) {
   const std::vector<std::string> w =
@@ -57,15 +53,16 @@ TEST(EkfInputCheck, BodyVelocityIsASpeedInput) {
 }
 
 TEST(EkfInputCheck, NoGnssNoOdometryDriftsWithoutBound) {
-  const std::vector<std::string> w = EkfInputWarnings(
-      ParseEstimatorSensorSetup(YamlNode::LoadString(
-          "name: imu_only\nsensors:\n"
-          "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.2]}}\n",
-          "imu_only.yaml")),
-      SingleTrackParams{});
+  const std::vector<std::string> w =
+      EkfInputWarnings(ParseEstimatorSensorSetup(YamlNode::LoadString(
+                           "name: imu_only\nsensors:\n"
+                           "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.2]}}\n",
+                           "imu_only.yaml")),
+                       SingleTrackParams{});
   EXPECT_TRUE(AnyContains(w, "no GNSS antenna"));
-  EXPECT_TRUE(AnyContains(w, "no speed input (speed_encoder or body_velocity): the speed comes "
-                             "from the IMU's longitudinal acceleration alone"));
+  EXPECT_TRUE(AnyContains(w,
+                          "no speed input (speed_encoder or body_velocity): the speed comes "
+                          "from the IMU's longitudinal acceleration alone"));
 }
 
 TEST(EkfInputCheck, AnotherVehiclesFileIsSuspected) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "any_line_contains.hpp"
 #include "core/geodetic.hpp"
 #include "estimator/ekf_options.hpp"
 #include "estimator/ekf_single_track.hpp"
@@ -26,12 +27,7 @@ using testing::RobotSetup;
 using testing::RobotStream;
 using testing::RobotStreamOptions;
 
-bool AnyContains(const std::vector<std::string>& lines, const std::string& text) {
-  for (const std::string& l : lines) {
-    if (l.find(text) != std::string::npos) return true;
-  }
-  return false;
-}
+using testing::AnyContains;
 
 TEST(EkfLocalStart, DifferentialDriveStartsStillAndDriftsUnderTwoPercent) {
   const DifferentialDriveTrajectory traj = RobotDrive(2.0);
