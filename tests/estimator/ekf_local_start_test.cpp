@@ -13,6 +13,7 @@
 
 #include "any_line_contains.hpp"
 #include "core/geodetic.hpp"
+#include "ekf_test_drive.hpp"
 #include "estimator/ekf_options.hpp"
 #include "estimator/ekf_single_track.hpp"
 #include "robot_drive.hpp"
@@ -130,6 +131,59 @@ TEST(EkfLocalStart, NeverInitialisedSaysWhatItWaitsFor) {
       << why;
   EXPECT_NE(why.find("no body-frame odometry in the setup"), std::string::npos) << why;
   EXPECT_TRUE(AnyContains(run.diagnostics.warnings, "no speed input"));
+}
+
+TEST(EkfLocalStart, CarWithSpeedAndSteeringEncodersStartsMoving) {
+  // The single-track drive of ekf_test_drive.hpp (8 m/s on a circle, noisy gyro and speed
+  // encoder) without its GNSS: the speed encoder is the moving start's odometry.
+  testing::DriveOptions o;
+  o.duration_s = 30.0;
+  o.gyro_sigma_radps = 0.002;
+  o.accel_sigma_mps2 = 0.02;
+  o.speed_sigma_mps = 0.02;
+  EkfOptions options;
+  testing::Drive d = testing::MakeDrive(options.vehicle, o);
+  std::erase_if(d.stream, [](const Measurement& m) { return std::holds_alternative<GnssFix>(m); });
+  const EstimatorSensorSetup setup = ParseEstimatorSensorSetup(YamlNode::LoadString(
+      "name: car\nsensors:\n"
+      "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.5]}}\n"
+      "  - {type: speed_encoder, id: speed, T_body_sensor: {translation: [-0.76, 0, 0.27]}}\n"
+      "  - {type: steering_encoder, id: steering, T_body_sensor: {translation: [0.93, 0, 0]}}\n",
+      "car.yaml"));
+  EkfSingleTrackEstimator ekf(setup, options);
+  std::optional<StateEstimate> first, last;
+  testing::PlanarTruth truth0, truth_last;
+  for (const Measurement& m : d.stream) {
+    ekf.Add(m);
+    const auto* imu = std::get_if<ImuSample>(&m);
+    if (imu == nullptr) continue;
+    const std::optional<StateEstimate> e = ekf.StateAt(imu->header.stamp_ns);
+    if (!e) continue;
+    const testing::PlanarTruth& t =
+        d.truth[static_cast<std::size_t>(imu->header.stamp_ns / 10'000'000)];
+    EXPECT_EQ(e->status, EstimateStatus::kLocal);
+    if (!first) {
+      first = e;
+      truth0 = t;
+    }
+    last = e;
+    truth_last = t;
+  }
+  ASSERT_TRUE(first.has_value()) << ekf.diagnostics().waiting_for;
+  EXPECT_EQ(ekf.diagnostics().initialization, "moving (odometry, local frame)");
+  EXPECT_LT(ToSeconds(first->state.t_ns), 2.0);
+  EXPECT_NEAR(first->state.v_world.norm(), testing::TruthImuVelocity(truth0).norm(), 0.05);
+  // The truth's displacement since the start, in the start's body frame, against the estimate's
+  // (the local frame: the IMU at 0 and the body's x axis along x at the start).
+  const Mat2 R0 = Eigen::Rotation2Dd(truth0.psi).toRotationMatrix();
+  const Vec2 truth_moved =
+      R0.transpose() *
+      (testing::TruthImuPosition(truth_last) - testing::TruthImuPosition(truth0)).head<2>();
+  const double error_m = (last->state.p_world.head<2>() - truth_moved).norm();
+  const double distance_m = 8.0 * ToSeconds(last->state.t_ns - first->state.t_ns);
+  std::printf("car without GNSS: started at %.2f s, %.3f m off after %.0f m\n",
+              ToSeconds(first->state.t_ns), error_m, distance_m);
+  EXPECT_LT(error_m, 0.02 * distance_m);
 }
 
 }  // namespace
