@@ -1,5 +1,6 @@
 #include "core/binary_io.hpp"
 
+#include <algorithm>
 
 namespace statebench {
 
@@ -15,13 +16,23 @@ BinaryWriter::~BinaryWriter() {
 }
 
 void BinaryWriter::PutBytes(const void* data, std::size_t size) {
-  buffer_.append(static_cast<const char*>(data), size);
-  if (buffer_.size() >= (1u << 22)) Flush();
+  if (buffer_.size() + size > kWriteBytes) Flush();
+  if (size >= kWriteBytes) {  // a lidar sweep: straight from its vector, in pieces
+    WritePieces(static_cast<const char*>(data), size);
+  } else {
+    buffer_.append(static_cast<const char*>(data), size);
+  }
 }
 
 void BinaryWriter::Flush() {
-  out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+  WritePieces(buffer_.data(), buffer_.size());
   buffer_.clear();
+}
+
+void BinaryWriter::WritePieces(const char* data, std::size_t size) {
+  for (std::size_t done = 0; done < size; done += kWriteBytes) {
+    out_.write(data + done, static_cast<std::streamsize>(std::min(kWriteBytes, size - done)));
+  }
 }
 
 void BinaryWriter::Close() {

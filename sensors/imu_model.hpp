@@ -1,5 +1,5 @@
-// Simulated IMU: exact angular rate and specific force at its mount, plus the errors of
-// ImuTriadErrors.
+// Simulated IMU: exact angular rate and specific force at its mount, plus the mount's vibration
+// when the options have one (ImuVibration), plus the errors of ImuTriadErrors.
 //
 // Sampling is instantaneous: the sample stamped t is the exact rate and specific force at t
 // (the 1 kHz truth has a sample at every IMU stamp because the rate divides 1000 Hz). Real
@@ -9,9 +9,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "sensors/imu_options.hpp"
 #include "sensors/imu_triad_errors.hpp"
+#include "sensors/imu_vibration.hpp"
 #include "sensors/sensor_model.hpp"
 
 namespace statebench::sensors {
@@ -23,7 +25,7 @@ class ImuModel : public SensorModel {
   void Observe(const TruthSample& truth, std::vector<Measurement>* out) override;
 
   // The sample at truth.t_ns regardless of the schedule; advances the error processes by one
-  // period. Observe calls it at the sample times.
+  // period. Observe calls it at the sample times (after moving the vibration on to truth.t_ns).
   ImuSample Sample(const TruthSample& truth);
 
   const ImuTriadErrors& gyro_errors() const { return gyro_; }
@@ -32,6 +34,8 @@ class ImuModel : public SensorModel {
  private:
   ImuTriadErrors gyro_;
   ImuTriadErrors accel_;
+  std::optional<ImuVibration> vibration_;
+  std::optional<TimeNs> vibration_t_ns_;  // the truth stamp the vibration is at
 };
 
 }  // namespace statebench::sensors

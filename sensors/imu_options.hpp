@@ -7,6 +7,9 @@
 
 #include <optional>
 #include <string_view>
+#include <vector>
+
+#include "core/eigen_types.hpp"
 
 namespace statebench::sensors {
 
@@ -23,9 +26,36 @@ struct ImuTriadOptions {
   double quantization = 0.0;            // output resolution (one LSB); 0 = continuous
 };
 
+// Mount vibration (imu_vibration.hpp has the model).
+struct EngineHarmonic {
+  double order = 2.0;                  // multiple of the engine speed (2: a 4-cylinder's firing)
+  Vec3 gyro_rms_radps = Vec3::Zero();  // per IMU axis
+  Vec3 accel_rms_mps2 = Vec3::Zero();
+};
+
+struct EngineVibrationOptions {
+  double idle_rpm = 800.0;
+  double rpm_per_mps = 100.0;  // engine speed rises with vehicle speed (one gear, no slip)
+  double max_rpm = 3000.0;
+  std::vector<EngineHarmonic> harmonics;
+};
+
+struct RoadVibrationOptions {
+  Vec3 gyro_rms_per_mps = Vec3::Zero();   // rad/s rms per m/s of speed, per axis
+  Vec3 accel_rms_per_mps = Vec3::Zero();  // m/s^2 rms per m/s of speed, per axis
+  double frequency_hz = 12.0;             // the body's resonance on its suspension
+  double damping = 0.3;                   // damping ratio, in (0, 1)
+};
+
+struct ImuVibrationOptions {
+  std::optional<EngineVibrationOptions> engine;
+  std::optional<RoadVibrationOptions> road;
+};
+
 struct ImuOptions {
   ImuTriadOptions gyro;
   ImuTriadOptions accel;
+  ImuVibrationOptions vibration;  // none by default
 };
 
 enum class ImuGrade { kConsumer, kIndustrial, kTactical };

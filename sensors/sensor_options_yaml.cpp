@@ -57,6 +57,50 @@ ImuTriadOptions ParseTriad(const YamlNode& node, ImuTriadOptions triad, bool req
   return triad;
 }
 
+Vec3 NonNegativeVec3(const YamlNode& node) {
+  const Vec3 v = node.As<Vec3>();
+  if (!(v.minCoeff() >= 0.0)) node.Fail("must be three numbers >= 0");
+  return v;
+}
+
+ImuVibrationOptions ParseVibration(const YamlNode& node) {
+  node.ExpectOnlyKeys({"engine", "road"});
+  ImuVibrationOptions o;
+  if (const auto engine = node.Find("engine")) {
+    engine->ExpectOnlyKeys({"idle_rpm", "rpm_per_mps", "max_rpm", "harmonics"});
+    EngineVibrationOptions e;
+    e.idle_rpm = Positive((*engine)["idle_rpm"]);
+    ReadOptional(*engine, "rpm_per_mps", &e.rpm_per_mps, NonNegative);
+    ReadOptional(*engine, "max_rpm", &e.max_rpm, Positive);
+    if (e.max_rpm < e.idle_rpm) (*engine)["max_rpm"].Fail("must be at least idle_rpm");
+    const YamlNode harmonics = (*engine)["harmonics"];
+    harmonics.ExpectSequence();
+    if (harmonics.size() == 0) harmonics.Fail("needs at least one harmonic");
+    for (std::size_t i = 0; i < harmonics.size(); ++i) {
+      const YamlNode h = harmonics.At(i);
+      h.ExpectOnlyKeys({"order", "gyro_rms_radps", "accel_rms_mps2"});
+      EngineHarmonic harmonic;
+      harmonic.order = Positive(h["order"]);
+      if (const auto g = h.Find("gyro_rms_radps")) harmonic.gyro_rms_radps = NonNegativeVec3(*g);
+      if (const auto a = h.Find("accel_rms_mps2")) harmonic.accel_rms_mps2 = NonNegativeVec3(*a);
+      e.harmonics.push_back(harmonic);
+    }
+    o.engine = e;
+  }
+  if (const auto road = node.Find("road")) {
+    road->ExpectOnlyKeys({"gyro_rms_per_mps", "accel_rms_per_mps", "frequency_hz", "damping"});
+    RoadVibrationOptions r;
+    if (const auto g = road->Find("gyro_rms_per_mps")) r.gyro_rms_per_mps = NonNegativeVec3(*g);
+    if (const auto a = road->Find("accel_rms_per_mps")) r.accel_rms_per_mps = NonNegativeVec3(*a);
+    ReadOptional(*road, "frequency_hz", &r.frequency_hz, Positive);
+    if (const auto d = road->Find("damping")) {
+      r.damping = CheckedNumber(*d, OptionRange{0.0, false, 1.0, false});
+    }
+    o.road = r;
+  }
+  return o;
+}
+
 GnssAccuracy ParseAccuracy(const YamlNode& node) {
   node.ExpectOnlyKeys({"cep_m", "vertical_sigma_m"});
   GnssAccuracy a;
@@ -101,7 +145,7 @@ double InRange(const YamlNode& node, double lo, double hi) {
 }
 
 ImuOptions ParseImuOptions(const YamlNode& entry) {
-  ExpectEntryKeys(entry, {"preset", "gyro", "accel"});
+  ExpectEntryKeys(entry, {"preset", "gyro", "accel", "vibration"});
   ImuOptions o;
   const bool has_preset = entry.Has("preset");
   if (has_preset) {
@@ -117,6 +161,7 @@ ImuOptions ParseImuOptions(const YamlNode& entry) {
   if (!has_preset || entry.Has("accel")) {
     o.accel = ParseTriad(entry["accel"], o.accel, !has_preset);
   }
+  if (const auto vibration = entry.Find("vibration")) o.vibration = ParseVibration(*vibration);
   return o;
 }
 

@@ -4,11 +4,15 @@
 #include <cmath>
 #include <fstream>
 
+#include "core/content_hash.hpp"
 #include "core/csv.hpp"
 #include "core/error.hpp"
 
 namespace statebench::sim {
 namespace {
+
+constexpr const char* kVehicleStage = "vehicle";
+constexpr const char* kTruthFile = "truth.bin";
 
 // Interpolates y(x) on a sorted table, linear, clamped to the ends.
 double Interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x,
@@ -65,6 +69,7 @@ TruthSimulation::TruthSimulation(const Scenario& scenario, const std::filesystem
   double s0 = 0.0, v0 = 0.0, a0 = 0.0;
   Reference(0, &s0, &v0, &a0);
   vehicle_->Reset(s0, v0, 0);
+  if (cache.enabled()) OpenVehicleStage(TruthStageKey(scenario_, sumo_options, cache.code_id), cache);
 
   summary_.scenario = scenario_.name;
   summary_.seed = scenario_.seed;
@@ -135,7 +140,33 @@ void TruthSimulation::Reference(TimeNs t_ns, double* s_raw_m, double* v_mps,
   *a_mps2 = a * ds2d_ds3d;
 }
 
-bool TruthSimulation::Next(TruthSample* sample) {
+TruthSimulation::~TruthSimulation() {
+  if (record_) record_->cache->Abandon(record_->folder);  // the truth did not run to its end
+}
+
+void TruthSimulation::OpenVehicleStage(const std::optional<std::string>& truth_key,
+                                       const StageCacheUse& cache) {
+  if (!truth_key) return;  // a scenario built in memory
+  Sha256 hash;
+  hash.Field("vehicle truth v1").Field(*truth_key);
+  const std::string key = hash.Hex();
+  if (const auto entry = cache.cache->Find(kVehicleStage, key)) {
+    replay_ = std::make_unique<BinaryReader>(*entry / kTruthFile);
+    return;
+  }
+  Recording recording{cache.cache, key, cache.cache->Begin(kVehicleStage, key), nullptr};
+  recording.writer = std::make_unique<BinaryWriter>(recording.folder / kTruthFile);
+  record_ = std::move(recording);
+}
+
+void TruthSimulation::PublishRecording() {
+  WriteTruthEnd(*record_->writer);
+  record_->writer->Close();
+  record_->cache->Publish(kVehicleStage, record_->key, record_->folder);
+  record_.reset();
+}
+
+bool TruthSimulation::Simulate(TrackedTruth* truth) {
   if (started_) {
     if (vehicle_->time_ns() + VehicleSimulation::kStepNs > end_ns_) return false;
     double s = 0.0, v = 0.0, a = 0.0;
@@ -143,12 +174,29 @@ bool TruthSimulation::Next(TruthSample* sample) {
     vehicle_->Step(s, v, a);
   }
   started_ = true;
-  *sample = vehicle_->Truth();
-  Accumulate(*sample);
+  truth->sample = vehicle_->Truth();
+  truth->lateral_error_m = vehicle_->projection().lateral_m;
+  truth->longitudinal_error_m = vehicle_->projection().s_m - vehicle_->reference().s_m;
   return true;
 }
 
-void TruthSimulation::Accumulate(const TruthSample& s) {
+bool TruthSimulation::Next(TruthSample* sample) {
+  TrackedTruth truth;
+  if (replay_) {
+    if (!ReadTrackedTruth(*replay_, &truth)) return false;
+  } else if (!Simulate(&truth)) {
+    if (record_) PublishRecording();
+    return false;
+  } else if (record_) {
+    WriteTrackedTruth(*record_->writer, truth);
+  }
+  *sample = truth.sample;
+  Accumulate(truth);
+  return true;
+}
+
+void TruthSimulation::Accumulate(const TrackedTruth& truth) {
+  const TruthSample& s = truth.sample;
   const FrameKinematics& b = s.body;
   summary_.duration_s = ToSeconds(s.t_ns);
   summary_.distance_m = s.distance_m;
@@ -156,14 +204,13 @@ void TruthSimulation::Accumulate(const TruthSample& s) {
   const Vec3 a_body = b.T_world_frame.rotation().conjugate() * b.a_world;
   summary_.max_lateral_accel_mps2 = std::max(summary_.max_lateral_accel_mps2, std::abs(a_body.y()));
   summary_.max_yaw_rate_radps = std::max(summary_.max_yaw_rate_radps, std::abs(b.omega_frame.z()));
-  const double lateral = vehicle_->projection().lateral_m;
+  const double lateral = truth.lateral_error_m;
   sum_lateral_sq_ += lateral * lateral;
   ++samples_;
   summary_.rms_lateral_error_m = std::sqrt(sum_lateral_sq_ / static_cast<double>(samples_));
   summary_.max_lateral_error_m = std::max(summary_.max_lateral_error_m, std::abs(lateral));
   summary_.max_longitudinal_error_m =
-      std::max(summary_.max_longitudinal_error_m,
-               std::abs(vehicle_->projection().s_m - vehicle_->reference().s_m));
+      std::max(summary_.max_longitudinal_error_m, std::abs(truth.longitudinal_error_m));
   if (s.t_ns == FromSeconds(60.0)) distance_at_60s_ = s.distance_m;
   if (distance_at_60s_ >= 0.0) summary_.distance_after_60s_m = s.distance_m - distance_at_60s_;
 }

@@ -17,14 +17,17 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/binary_io.hpp"
 #include "core/truth.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/sumo_result.hpp"
 #include "simulator/sumo_run.hpp"
 #include "simulator/terrain.hpp"
+#include "simulator/truth_record.hpp"
 #include "simulator/vehicle_params.hpp"
 #include "simulator/vehicle_simulation.hpp"
 
@@ -53,9 +56,13 @@ class TruthSimulation {
  public:
   // Builds the network, runs SUMO (files in work_dir/sumo) and sets the vehicle on its path.
   // Throws InputError on bad scenario or vehicle files, or when SUMO cannot run the route.
-  // With `cache`, the SUMO result comes from the stage cache when it holds it.
+  // With `cache`, the SUMO result and the vehicle model's samples come from the stage cache
+  // when it holds them (the same bits), and go into it when the truth runs to its end.
   TruthSimulation(const Scenario& scenario, const std::filesystem::path& work_dir,
                   const SumoRunOptions& sumo_options = {}, const StageCacheUse& cache = {});
+  ~TruthSimulation();
+  TruthSimulation(const TruthSimulation&) = delete;
+  TruthSimulation& operator=(const TruthSimulation&) = delete;
 
   // The next 1 kHz truth sample (the first is t = 0); false once the end time is reached.
   bool Next(TruthSample* sample);
@@ -72,7 +79,12 @@ class TruthSimulation {
   // SUMO reference at time t_ns, mapped to the body origin and horizontal arc length.
   void Reference(TimeNs t_ns, double* s_raw_m, double* v_mps, double* a_mps2) const;
   double HorizontalArcLength(double s3d_m, double* ds2d_ds3d) const;
-  void Accumulate(const TruthSample& s);
+  // The vehicle model's next step (false past the end).
+  bool Simulate(TrackedTruth* truth);
+  void Accumulate(const TrackedTruth& truth);
+  // The vehicle stage through the cache: replay_ when it holds the samples, record_ otherwise.
+  void OpenVehicleStage(const std::optional<std::string>& truth_key, const StageCacheUse& cache);
+  void PublishRecording();
 
   Scenario scenario_;
   VehicleParams params_;
@@ -87,6 +99,15 @@ class TruthSimulation {
   double sum_lateral_sq_ = 0.0;
   std::size_t samples_ = 0;
   double distance_at_60s_ = -1.0;
+
+  struct Recording {
+    StageCache* cache = nullptr;
+    std::string key;
+    std::filesystem::path folder;  // StageCache::Begin
+    std::unique_ptr<BinaryWriter> writer;
+  };
+  std::unique_ptr<BinaryReader> replay_;
+  std::optional<Recording> record_;
 };
 
 // The ego's SUMO vType: EgoVehicleTypeFor with 80 % of the acceleration limits.

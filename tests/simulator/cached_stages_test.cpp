@@ -1,6 +1,7 @@
-// The stage cache gives the same stream, bit for bit, as a fresh simulation: the paper's setup 3
-// (two 16-beam lidars, RTK GNSS with an outage, IMU) run fresh, then through an empty cache
-// (every stage computed and recorded), then again (every stage read back: no SUMO, no raycast).
+// The stage cache gives the same stream and truth, bit for bit, as a fresh simulation: the
+// paper's setup 3 (two 16-beam lidars, RTK GNSS with an outage, IMU) run fresh, then through an
+// empty cache (every stage computed and recorded), then again (every stage read back: no SUMO,
+// no vehicle model, no raycast).
 #include "simulator/cached_stages.hpp"
 
 #include <gtest/gtest.h>
@@ -26,15 +27,43 @@ class CachedStagesTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  // The whole stream as bytes, and the cache's counts after the run.
+  // The whole stream as bytes, then every truth sample's fields and the truth summary's.
   std::string Stream(const std::string& name, StageCache* cache) {
     Scenario scenario = LoadScenario(sim::testing::SourceDir() / "scenarios/paper/setup3_shuttle.yaml");
     scenario.duration_s = 3.0;
     SensorRunOptions options;
     if (cache) options.cache = {cache, "test build"};
     SensorRun run(scenario, dir_ / name, options);
-    std::string bytes;
+    std::string bytes, truth;
+    run.SetTruthObserver([&truth](const TruthSample& s) { truth += TruthBytes(s); });
     while (const auto m = run.Next()) bytes += statebench::testing::MeasurementBytes(*m);
+    EXPECT_GT(truth.size(), 2900u * sizeof(double));
+    const TruthSummary& summary = run.truth().summary();
+    for (const double v :
+         {summary.duration_s, summary.distance_m, summary.max_speed_mps,
+          summary.max_lateral_accel_mps2, summary.max_yaw_rate_radps, summary.rms_lateral_error_m,
+          summary.max_lateral_error_m, summary.max_longitudinal_error_m}) {
+      truth += Bytes(&v, 1);
+    }
+    return bytes + truth;
+  }
+
+  static std::string Bytes(const double* v, std::size_t n) {
+    return std::string(reinterpret_cast<const char*>(v), n * sizeof(double));
+  }
+
+  // Every field of a truth sample, written out here (not by the cache's own writer).
+  static std::string TruthBytes(const TruthSample& s) {
+    const FrameKinematics& b = s.body;
+    std::string bytes(reinterpret_cast<const char*>(&s.t_ns), sizeof(s.t_ns));
+    bytes += Bytes(b.T_world_frame.rotation().coeffs().data(), 4);
+    bytes += Bytes(b.T_world_frame.translation().data(), 3);
+    for (const Vec3* v : {&b.v_world, &b.a_world, &b.omega_frame, &b.alpha_frame}) {
+      bytes += Bytes(v->data(), 3);
+    }
+    bytes += Bytes(&s.steering_front_rad, 1) + Bytes(&s.steering_rear_rad, 1);
+    bytes += Bytes(s.wheel_omega_radps.data(), 4);
+    bytes += Bytes(&s.sideslip_rad, 1) + Bytes(&s.distance_m, 1);
     return bytes;
   }
 
@@ -48,12 +77,14 @@ TEST_F(CachedStagesTest, CachedStreamsAreTheFreshStreamBitForBit) {
   StageCache first(dir_ / "cache", 0);
   EXPECT_EQ(Stream("recorded", &first), fresh);
   EXPECT_EQ(first.counts().at("sumo").misses, 1);
+  EXPECT_EQ(first.counts().at("vehicle").misses, 1);
   EXPECT_EQ(first.counts().at("sensors").misses, 4);  // imu, gnss, two lidars
   EXPECT_EQ(first.counts().at("sensors").hits, 0);
 
   StageCache second(dir_ / "cache", 0);
   EXPECT_EQ(Stream("replayed", &second), fresh);
   EXPECT_EQ(second.counts().at("sumo").hits, 1);
+  EXPECT_EQ(second.counts().at("vehicle").hits, 1);
   EXPECT_EQ(second.counts().at("sensors").hits, 4);
   EXPECT_EQ(second.counts().at("sensors").misses, 0);
   // The run folder looks the same: the network file is there.
