@@ -1,5 +1,5 @@
 // Issue 14, second half of the differential-drive acceptance point: the robot of
-// local_frame_start_test.cpp (IMU + wheel odometry, differential_drive_robot.hpp) with an
+// local_frame_start_test.cpp (IMU + wheel odometry, robot_drive.hpp, robot_gnss.hpp) with an
 // SBAS-grade GNSS receiver added: white noise of 1 m horizontal / 2 m vertical sigma at 2.5 Hz,
 // its reported covariance under-reported by 2x (sigmas 0.5 m / 1 m). Default options. The factor
 // graph's output must be continuous (an estimate at every IMU stamp from its first one, no jump
@@ -17,9 +17,9 @@
 
 #include "core/geodetic.hpp"
 #include "core/yaml_node.hpp"
-#include "differential_drive_robot.hpp"
 #include "estimator/factor_graph_estimator.hpp"
 #include "estimator_scenario.hpp"
+#include "robot_gnss.hpp"
 
 namespace statebench::est {
 namespace {
@@ -49,8 +49,7 @@ struct RobotGnssRun {
 
 RobotGnssRun RunRobotWithGnss(const DifferentialDriveTrajectory& traj,
                               const std::vector<Measurement>& stream) {
-  const EstimatorSensorSetup setup = ParseEstimatorSensorSetup(
-      YamlNode::LoadString(testing::RobotSetupYaml(true, true), "robot_gnss_setup.yaml"));
+  const EstimatorSensorSetup setup = testing::RobotGnssSetup();
   FactorGraphEstimator estimator(setup, FactorGraphOptions{});
   const LocalEnuFrame frame(testing::kRobotOrigin);
   RobotGnssRun run;
@@ -179,8 +178,8 @@ TEST(LocalFrameGnss, DifferentialDriveWithSbasGnssIsContinuousAndUnderOneMetre) 
   for (std::uint64_t seed : {11u, 12u, 13u, 14u, 15u}) {
     testing::RobotStreamOptions o;
     o.seed = seed;
-    o.gnss = true;
-    const RobotGnssRun run = RunRobotWithGnss(traj, testing::RobotStream(traj, o));
+    const RobotGnssRun run =
+        RunRobotWithGnss(traj, testing::RobotStreamWithGnss(traj, o, testing::RobotGnssOptions{}));
     PrintRobotGnssRun(seed, run);
     ExpectAcceptance(run);
   }
@@ -194,10 +193,10 @@ TEST(LocalFrameGnss, SameWithASlowCorrelatedGnssErrorAsSbasHas) {
   for (std::uint64_t seed : {11u, 12u, 13u}) {
     testing::RobotStreamOptions o;
     o.seed = seed;
-    o.gnss = true;
-    o.gnss_options.correlated_sigma_h_m = 0.5;
-    o.gnss_options.correlated_sigma_v_m = 1.0;
-    const RobotGnssRun run = RunRobotWithGnss(traj, testing::RobotStream(traj, o));
+    testing::RobotGnssOptions g;
+    g.correlated_sigma_h_m = 0.5;
+    g.correlated_sigma_v_m = 1.0;
+    const RobotGnssRun run = RunRobotWithGnss(traj, testing::RobotStreamWithGnss(traj, o, g));
     PrintRobotGnssRun(seed, run);
     ExpectAcceptance(run);
   }

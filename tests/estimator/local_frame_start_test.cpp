@@ -11,86 +11,26 @@
 #include <string>
 #include <vector>
 
-#include "core/random.hpp"
-#include "core/so3.hpp"
 #include "core/yaml_node.hpp"
-#include "differential_drive_robot.hpp"
 #include "estimator/ekf_options.hpp"
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/factor_graph_estimator.hpp"
+#include "robot_drive.hpp"
 
 namespace statebench::est {
 namespace {
 
 using testing::DifferentialDriveTrajectory;
-using testing::kRobotImuNoise;
 using testing::RobotDrive;
-using testing::RobotHeading;
-using testing::RobotSetupYaml;
+using testing::RobotRun;
+using testing::RobotSetup;
 using testing::RobotStream;
 using testing::RobotStreamOptions;
 
-struct RobotRun {
-  EstimatorDiagnostics diagnostics;
-  std::optional<StateEstimate> first;  // the first estimate
-  double first_tilt_error_rad = 0.0;
-  double first_speed_error_mps = 0.0;
-  double end_error_m = 0.0;  // horizontal, aligned by the initial pose
-  double max_error_m = 0.0;
-  double end_yaw_error_rad = 0.0;
-  double end_yaw_sigma_rad = 0.0;
-  double distance_m = 0.0;  // driven from the first estimate on
-  int estimates = 0;
-  int not_local = 0;  // estimates whose status is not `local`
-};
-
-// The estimate against the truth after aligning the first estimate's position and heading with
-// the truth's (the local frame starts at 0 with yaw 0; tilt is not aligned: it is observable).
 RobotRun RunRobot(const DifferentialDriveTrajectory& traj, const std::vector<Measurement>& stream,
                   bool with_odometry) {
-  const EstimatorSensorSetup setup = ParseEstimatorSensorSetup(
-      YamlNode::LoadString(RobotSetupYaml(with_odometry), "robot_setup.yaml"));
-  FactorGraphEstimator estimator(setup, FactorGraphOptions{});
-  RobotRun run;
-  Quat q_align = Quat::Identity();
-  Vec3 p_est0 = Vec3::Zero(), p_truth0 = Vec3::Zero(), p_truth_previous = Vec3::Zero();
-  for (const Measurement& m : stream) {
-    estimator.Add(m);
-    const auto* imu = std::get_if<ImuSample>(&m);
-    if (imu == nullptr) continue;
-    const TimeNs t = imu->header.stamp_ns;
-    const std::optional<StateEstimate> e = estimator.StateAt(t);
-    if (!e) continue;
-    const NavState truth = traj.State(t);
-    ++run.estimates;
-    run.not_local += e->status != EstimateStatus::kLocal;
-    if (!run.first) {
-      run.first = e;
-      q_align = Eigen::AngleAxisd(
-          RobotHeading(truth.q_world_imu) - RobotHeading(e->state.q_world_imu), Vec3::UnitZ());
-      p_est0 = e->state.p_world;
-      p_truth0 = truth.p_world;
-      const Vec3 up_est = e->state.q_world_imu.conjugate() * Vec3::UnitZ();
-      const Vec3 up_truth = truth.q_world_imu.conjugate() * Vec3::UnitZ();
-      run.first_tilt_error_rad = std::acos(std::clamp(up_est.dot(up_truth), -1.0, 1.0));
-      run.first_speed_error_mps = (e->state.v_world.norm() - truth.v_world.norm());
-    }
-    if (run.estimates > 1) run.distance_m += (truth.p_world - p_truth_previous).head<2>().norm();
-    p_truth_previous = truth.p_world;
-    const Vec3 p = q_align * (e->state.p_world - p_est0) + p_truth0;
-    const double error = (p - truth.p_world).head<2>().norm();
-    run.max_error_m = std::max(run.max_error_m, error);
-    run.end_error_m = error;
-    run.end_yaw_error_rad = so3::WrapAngle(RobotHeading(q_align * e->state.q_world_imu) -
-                                           RobotHeading(truth.q_world_imu));
-    // Yaw sigma: the world-z component of the rotation covariance (right perturbation).
-    const Mat3 R = e->state.q_world_imu.toRotationMatrix();
-    const Mat3 P_world =
-        R * e->covariance.block<3, 3>(kRotationIndex, kRotationIndex) * R.transpose();
-    run.end_yaw_sigma_rad = std::sqrt(P_world(2, 2));
-  }
-  run.diagnostics = estimator.diagnostics();
-  return run;
+  FactorGraphEstimator estimator(RobotSetup(with_odometry), FactorGraphOptions{});
+  return testing::RunRobot(estimator, traj, stream);
 }
 
 TEST(LocalFrameStart, DifferentialDriveStartsStillAndDriftsUnderOnePercent) {
@@ -177,7 +117,7 @@ TEST(LocalFrameStart, EstimatorsWithGnssWithoutFixSayTheyWaitForOne) {
   o.odometry = false;
   const std::vector<Measurement> stream = RobotStream(traj, o);
   const EstimatorSensorSetup setup = ParseEstimatorSensorSetup(YamlNode::LoadString(
-      RobotSetupYaml(false) +
+      testing::RobotSetupYaml(false) +
           "  - {type: gnss, id: gnss, T_body_sensor: {translation: [0, 0, 1]}}\n",
       "robot_gnss_setup.yaml"));
   FactorGraphEstimator factor_graph(setup, FactorGraphOptions{});

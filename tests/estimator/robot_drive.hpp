@@ -1,24 +1,26 @@
-// A differential-drive robot on the analytic drive of differential_drive_trajectory.hpp (test
-// fixture for the local-frame and GNSS start tests): its mounts, its sensor setup and its
-// measurement stream. IMU (consumer MEMS) at 100 Hz, wheel odometry (body_velocity) at 10 Hz,
-// and optionally an SBAS-grade GNSS receiver: white noise plus an optional first-order
-// Gauss-Markov part (shared/REFERENCE.md), its reported covariance a fraction of the true one.
-// The drive is placed in ENU by a yaw and an offset (the IMU and odometry do not see it; the
-// fixes and RobotTruth do), so a frame that starts with yaw 0 is not ENU by accident.
+// The differential-drive robot of issue 14 (test fixture): a lawnmower drive of 300 m with turns
+// on the spot (differential_drive_trajectory.hpp), its sensor setup (a consumer MEMS IMU on a
+// slightly tilted mount, wheel odometry as body_velocity), the seeded measurement stream and a
+// run of any estimator on it scored against the truth in the local frame. Used by the factor
+// graph's (local_frame_start_test.cpp) and the EKF's (ekf_local_start_test.cpp) local starts.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "core/geodetic.hpp"
 #include "core/measurements.hpp"
 #include "core/random.hpp"
 #include "core/so3.hpp"
+#include "core/state.hpp"
+#include "core/yaml_node.hpp"
 #include "differential_drive_trajectory.hpp"
+#include "estimator/estimator.hpp"
+#include "estimator/estimator_config.hpp"
 #include "estimator/imu_noise.hpp"
 
 namespace statebench::est::testing {
@@ -28,11 +30,6 @@ inline const ImuNoise kRobotImuNoise{2.4e-4, 2.0e-3, 2.0e-5, 3.0e-3};
 inline const Vec3 kRobotPBodyImu(0.12, -0.05, 0.25);
 inline const Vec3 kRobotImuRpyDeg(1.5, -2.0, 0.0);  // a slightly tilted mount
 inline constexpr double kOdometrySigmaMps = 0.02;   // wheel odometry, per measured component
-inline const Vec3 kRobotPBodyAntenna(-0.10, 0.05, 0.60);
-inline const GeodeticPoint kRobotOrigin{48.7, 2.2, 120.0};  // where ENU (0, 0, 0) is
-// The drive's start in ENU: heading (its x axis) and position.
-inline constexpr double kRobotStartYawRad = 2.0;
-inline const Vec3 kRobotStartEnu(35.0, -20.0, 0.0);
 
 inline Quat RobotQBodyImu() {
   const double k = std::numbers::pi / 180.0;
@@ -43,8 +40,7 @@ inline Quat RobotQBodyImu() {
 // Lawnmower drive: five 50 m legs joined by 10 m shifts, every corner a 90 deg turn on the spot
 // between pauses; 300 m in total, ending about 70 m from the start. `pause_s` of standstill first.
 inline DifferentialDriveTrajectory RobotDrive(double pause_s) {
-  using Leg = DifferentialDriveTrajectory::Leg;
-  std::vector<Leg> legs;
+  std::vector<DifferentialDriveTrajectory::Leg> legs;
   if (pause_s > 0.0) legs.push_back({pause_s, 0.0, 0.0});
   const double half_pi = std::numbers::pi / 2.0;
   for (int k = 0; k < 5; ++k) {
@@ -59,8 +55,7 @@ inline DifferentialDriveTrajectory RobotDrive(double pause_s) {
   return DifferentialDriveTrajectory(legs, kRobotPBodyImu, RobotQBodyImu());
 }
 
-// The setup: IMU with its noise, optionally the wheel odometry and a GNSS antenna `gnss`.
-inline std::string RobotSetupYaml(bool with_odometry, bool with_gnss = false) {
+inline std::string RobotSetupYaml(bool with_odometry) {
   char imu[512];
   std::snprintf(imu, sizeof(imu),
                 "  - {type: imu, id: imu, rate_hz: 100, T_body_sensor: {translation: [%g, %g, %g],"
@@ -76,27 +71,8 @@ inline std::string RobotSetupYaml(bool with_odometry, bool with_gnss = false) {
         "  - {type: body_velocity, id: wheel_odom, rate_hz: 10, latency_s: 0.02,"
         " T_body_sensor: {translation: [0, 0, 0]}}\n";
   }
-  if (with_gnss) {
-    char gnss[256];
-    std::snprintf(gnss, sizeof(gnss),
-                  "  - {type: gnss, id: gnss, rate_hz: 2.5, latency_s: 0.1,"
-                  " T_body_sensor: {translation: [%g, %g, %g]}}\n",
-                  kRobotPBodyAntenna.x(), kRobotPBodyAntenna.y(), kRobotPBodyAntenna.z());
-    yaml += gnss;
-  }
   return yaml;
 }
-
-// An SBAS-grade receiver: white noise and a first-order Gauss-Markov part (per axis, sigma and
-// time constant), reporting `reported_scale` times the white sigmas.
-struct RobotGnssOptions {
-  double rate_hz = 2.5;
-  double sigma_h_m = 1.0, sigma_v_m = 2.0;  // white
-  double correlated_sigma_h_m = 0.0, correlated_sigma_v_m = 0.0;
-  double correlated_tau_s = 100.0;
-  double reported_scale = 0.5;  // under-reported by 2x
-  double latency_s = 0.1;
-};
 
 struct RobotStreamOptions {
   double start_s = 0.0;  // first sample (a later start: the robot is already moving)
@@ -104,32 +80,11 @@ struct RobotStreamOptions {
   std::uint64_t seed = 1;
   double extra_gyro_sigma_radps = 0.0;  // white vibration on top of the datasheet noise
   bool odometry = true;
-  bool gnss = false;  // fixes from their own random stream: the other bits do not change
-  RobotGnssOptions gnss_options;
 };
-
-// The IMU's true state in ENU (the drive placed by kRobotStartYawRad and kRobotStartEnu).
-inline NavState RobotTruth(const DifferentialDriveTrajectory& traj, TimeNs t_ns) {
-  NavState x = traj.State(t_ns);
-  const Quat q(Eigen::AngleAxisd(kRobotStartYawRad, Vec3::UnitZ()));
-  x.q_world_imu = (q * x.q_world_imu).normalized();
-  x.p_world = q * x.p_world + kRobotStartEnu;
-  x.v_world = q * x.v_world;
-  return x;
-}
-
-// The antenna's true position in ENU.
-inline Vec3 RobotAntennaEnu(const DifferentialDriveTrajectory& traj, double t) {
-  const DifferentialDriveTrajectory::Body b = traj.BodyAt(t);
-  const Vec3 p_drive =
-      Vec3(b.c.x(), b.c.y(), 0.0) + Eigen::AngleAxisd(b.yaw, Vec3::UnitZ()) * kRobotPBodyAntenna;
-  return Eigen::AngleAxisd(kRobotStartYawRad, Vec3::UnitZ()) * p_drive + kRobotStartEnu;
-}
 
 // IMU at 100 Hz (datasheet noise and bias random walk, turn-on biases) and wheel odometry at
 // 10 Hz (velocity of base_link in its frame: vx and vy with kOdometrySigmaMps white noise, vz
-// reported unmeasured with a variance of 1e6 as ROS drivers do), and the GNSS fixes when asked
-// for, in arrival order.
+// reported unmeasured with a variance of 1e6 as ROS drivers do), in arrival order.
 inline std::vector<Measurement> RobotStream(const DifferentialDriveTrajectory& traj,
                                             const RobotStreamOptions& o) {
   auto rng = MakeRng(o.seed, "robot_imu");
@@ -169,37 +124,6 @@ inline std::vector<Measurement> RobotStream(const DifferentialDriveTrajectory& t
       stream.push_back(v);
     }
   }
-  if (o.gnss) {
-    const RobotGnssOptions& g = o.gnss_options;
-    auto gnss_rng = MakeRng(o.seed, "robot_gnss");
-    const LocalEnuFrame frame(kRobotOrigin);
-    const Vec3 white(g.sigma_h_m, g.sigma_h_m, g.sigma_v_m);
-    const Vec3 correlated_sigma(g.correlated_sigma_h_m, g.correlated_sigma_h_m,
-                                g.correlated_sigma_v_m);
-    const double period = 1.0 / g.rate_hz;
-    const double phi = std::exp(-period / g.correlated_tau_s);
-    Vec3 correlated = correlated_sigma.cwiseProduct(
-        Vec3(normal(gnss_rng), normal(gnss_rng), normal(gnss_rng)));  // stationary start
-    for (int k = static_cast<int>(std::ceil(o.start_s * g.rate_hz)); k * period <= end_s; ++k) {
-      const TimeNs t_ns = FromSeconds(k * period);
-      const Vec3 w(normal(gnss_rng), normal(gnss_rng), normal(gnss_rng));
-      const Vec3 c(normal(gnss_rng), normal(gnss_rng), normal(gnss_rng));
-      correlated = phi * correlated + std::sqrt(1.0 - phi * phi) * correlated_sigma.cwiseProduct(c);
-      const Vec3 p = RobotAntennaEnu(traj, ToSeconds(t_ns)) + white.cwiseProduct(w) + correlated;
-      const GeodeticPoint geo = frame.ToGeodetic(p);
-      GnssFix fix;
-      fix.header.sensor_id = "gnss";
-      fix.header.stamp_ns = t_ns;
-      fix.header.arrival_ns = t_ns + FromSeconds(g.latency_s);
-      fix.latitude_deg = geo.latitude_deg;
-      fix.longitude_deg = geo.longitude_deg;
-      fix.altitude_m = geo.altitude_m;
-      const Vec3 reported = g.reported_scale * white;
-      fix.covariance_enu = reported.cwiseAbs2().asDiagonal();
-      fix.status = GnssFixStatus::kSingle;
-      stream.push_back(fix);
-    }
-  }
   std::stable_sort(stream.begin(), stream.end(), [](const Measurement& a, const Measurement& b) {
     return HeaderOf(a).arrival_ns < HeaderOf(b).arrival_ns;
   });
@@ -210,6 +134,73 @@ inline std::vector<Measurement> RobotStream(const DifferentialDriveTrajectory& t
 inline double RobotHeading(const Quat& q_world_imu) {
   const Vec3 forward = q_world_imu * (RobotQBodyImu().conjugate() * Vec3::UnitX());
   return std::atan2(forward.y(), forward.x());
+}
+
+struct RobotRun {
+  EstimatorDiagnostics diagnostics;
+  std::optional<StateEstimate> first;  // the first estimate
+  double first_tilt_error_rad = 0.0;
+  double first_speed_error_mps = 0.0;
+  double end_error_m = 0.0;  // horizontal, aligned by the initial pose
+  double max_error_m = 0.0;
+  double end_yaw_error_rad = 0.0;
+  double end_yaw_sigma_rad = 0.0;
+  double distance_m = 0.0;  // driven from the first estimate on
+  int estimates = 0;
+  int not_local = 0;  // estimates whose status is not `local`
+};
+
+// The robot's sensor setup through the YAML parser.
+inline EstimatorSensorSetup RobotSetup(bool with_odometry) {
+  return ParseEstimatorSensorSetup(
+      YamlNode::LoadString(RobotSetupYaml(with_odometry), "robot_setup.yaml"));
+}
+
+// Feeds `stream` to `estimator` and scores its estimate at every IMU stamp against the truth
+// after aligning the first estimate's position and heading with the truth's (the local frame
+// starts at 0 with yaw 0; tilt is not aligned: it is observable).
+inline RobotRun RunRobot(Estimator& estimator, const DifferentialDriveTrajectory& traj,
+                         const std::vector<Measurement>& stream) {
+  RobotRun run;
+  Quat q_align = Quat::Identity();
+  Vec3 p_est0 = Vec3::Zero(), p_truth0 = Vec3::Zero(), p_truth_previous = Vec3::Zero();
+  for (const Measurement& m : stream) {
+    estimator.Add(m);
+    const auto* imu = std::get_if<ImuSample>(&m);
+    if (imu == nullptr) continue;
+    const TimeNs t = imu->header.stamp_ns;
+    const std::optional<StateEstimate> e = estimator.StateAt(t);
+    if (!e) continue;
+    const NavState truth = traj.State(t);
+    ++run.estimates;
+    run.not_local += e->status != EstimateStatus::kLocal;
+    if (!run.first) {
+      run.first = e;
+      q_align = Eigen::AngleAxisd(
+          RobotHeading(truth.q_world_imu) - RobotHeading(e->state.q_world_imu), Vec3::UnitZ());
+      p_est0 = e->state.p_world;
+      p_truth0 = truth.p_world;
+      const Vec3 up_est = e->state.q_world_imu.conjugate() * Vec3::UnitZ();
+      const Vec3 up_truth = truth.q_world_imu.conjugate() * Vec3::UnitZ();
+      run.first_tilt_error_rad = std::acos(std::clamp(up_est.dot(up_truth), -1.0, 1.0));
+      run.first_speed_error_mps = (e->state.v_world.norm() - truth.v_world.norm());
+    }
+    if (run.estimates > 1) run.distance_m += (truth.p_world - p_truth_previous).head<2>().norm();
+    p_truth_previous = truth.p_world;
+    const Vec3 p = q_align * (e->state.p_world - p_est0) + p_truth0;
+    const double error = (p - truth.p_world).head<2>().norm();
+    run.max_error_m = std::max(run.max_error_m, error);
+    run.end_error_m = error;
+    run.end_yaw_error_rad = so3::WrapAngle(RobotHeading(q_align * e->state.q_world_imu) -
+                                           RobotHeading(truth.q_world_imu));
+    // Yaw sigma: the world-z component of the rotation covariance (right perturbation).
+    const Mat3 R = e->state.q_world_imu.toRotationMatrix();
+    const Mat3 P_world =
+        R * e->covariance.block<3, 3>(kRotationIndex, kRotationIndex) * R.transpose();
+    run.end_yaw_sigma_rad = std::sqrt(P_world(2, 2));
+  }
+  run.diagnostics = estimator.diagnostics();
+  return run;
 }
 
 }  // namespace statebench::est::testing
