@@ -44,6 +44,15 @@ double FirstEstimateS(const fs::path& csv) {
 TEST(RunScoringSpan, FactorGraphAndEkfShareTheirScoringSpan) {
   const fs::path dir = fs::temp_directory_path() / ("statebench_span_test_" + std::to_string(getpid()));
   fs::remove_all(dir);
+  // Removed however the test ends (a failed assertion returns early).
+  struct RemoveOnExit {
+    fs::path dir;
+    ~RemoveOnExit() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+      fs::remove(dir.string() + ".log", ec);
+    }
+  } cleanup{dir};
   const std::string command = std::string(STATEBENCH_BIN) +
                               " run scenarios/extra/setup1_quadricycle_nolidar.yaml --duration 20"
                               " --estimators factor_graph,ekf --quiet --out " +
@@ -85,8 +94,6 @@ TEST(RunScoringSpan, FactorGraphAndEkfShareTheirScoringSpan) {
   EXPECT_EQ(CountRows(dir / "reference.csv", ""), 2001);  // 0 .. 20 s at 100 Hz
   EXPECT_EQ(CountRows(dir / "gnss_fixes.csv", ",gnss_front,"),
             ReadJson(dir / "ekf" / "diagnostics.json")["sensors"]["gnss_front"]["received"].get<int>());
-  fs::remove_all(dir);
-  fs::remove(dir.string() + ".log");
 }
 
 }  // namespace
