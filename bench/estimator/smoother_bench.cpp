@@ -26,16 +26,7 @@ double Percentile(std::vector<double> v, double q) {
 }
 
 const testing::Scenario& Drive() {
-  static const testing::Scenario sc = [] {
-    testing::ScenarioOptions so;
-    so.duration_s = 40.0;
-    so.imu_noisy = true;
-    so.gyro_bias = Vec3(2e-4, -3e-4, 4e-4);
-    so.accel_bias = Vec3(0.02, -0.015, 0.01);
-    so.gnss_sigma_h = so.reported_sigma_h = 0.02;
-    so.gnss_sigma_v = so.reported_sigma_v = 0.03;
-    return testing::MakeScenario(so);
-  }();
+  static const testing::Scenario sc = testing::MakeScenario(testing::DriftingImuRtkOptions(40.0));
   return sc;
 }
 

@@ -11,6 +11,7 @@
 namespace statebench::est {
 namespace {
 
+using testing::DriftingImuRtkOptions;
 using testing::MakeScenario;
 using testing::MakeSetup;
 using testing::Scenario;
@@ -76,13 +77,7 @@ Drift RunOutage(const Scenario& sc, const std::vector<Measurement>& stream,
 }
 
 ScenarioOptions OutageScenario() {
-  ScenarioOptions so;
-  so.duration_s = 45.0;
-  so.imu_noisy = true;
-  so.gyro_bias = Vec3(2e-4, -3e-4, 4e-4);
-  so.accel_bias = Vec3(0.02, -0.015, 0.01);
-  so.gnss_sigma_h = so.reported_sigma_h = 0.02;
-  so.gnss_sigma_v = so.reported_sigma_v = 0.03;
+  ScenarioOptions so = DriftingImuRtkOptions(45.0);
   so.outage_begin_s = 15.0;  // GNSS silent to the end
   so.seed = 7;
   return so;

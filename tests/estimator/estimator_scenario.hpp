@@ -61,6 +61,19 @@ struct Scenario {
   NavState Truth(TimeNs t_ns) const { return trajectory.State(t_ns); }
 };
 
+// The outage tests' drive: a noisy IMU with constant gyro and accel biases that make it drift
+// when GNSS goes, and RTK-grade fixes (2 cm / 3 cm, reported as they are).
+inline ScenarioOptions DriftingImuRtkOptions(double duration_s) {
+  ScenarioOptions so;
+  so.duration_s = duration_s;
+  so.imu_noisy = true;
+  so.gyro_bias = Vec3(2e-4, -3e-4, 4e-4);
+  so.accel_bias = Vec3(0.02, -0.015, 0.01);
+  so.gnss_sigma_h = so.reported_sigma_h = 0.02;
+  so.gnss_sigma_v = so.reported_sigma_v = 0.03;
+  return so;
+}
+
 inline Scenario MakeScenario(const ScenarioOptions& o) {
   Scenario sc{o, VehicleTrajectory(o.motion_start_s), {}};
   auto rng = MakeRng(o.seed, "estimator_scenario");

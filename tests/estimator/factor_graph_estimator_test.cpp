@@ -16,6 +16,7 @@ namespace statebench::est {
 namespace {
 
 using testing::Antenna;
+using testing::DriftingImuRtkOptions;
 using testing::MakeScenario;
 using testing::MakeSetup;
 using testing::Scenario;
@@ -191,13 +192,7 @@ TEST(FactorGraphEstimator, OutOfOrderGnssGivesTheInOrderSmoothedStates) {
 // Acceptance: with GNSS cut for 30 s, a 0.5 s window drifts no more than a 2 s window (10 %):
 // marginalisation keeps the information of the states that leave.
 TEST(FactorGraphEstimator, ShortWindowDriftsNoMoreThanLongWindowInAnOutage) {
-  ScenarioOptions so;
-  so.duration_s = 50.0;
-  so.imu_noisy = true;
-  so.gyro_bias = Vec3(2e-4, -3e-4, 4e-4);
-  so.accel_bias = Vec3(0.02, -0.015, 0.01);
-  so.gnss_sigma_h = so.reported_sigma_h = 0.02;
-  so.gnss_sigma_v = so.reported_sigma_v = 0.03;
+  ScenarioOptions so = DriftingImuRtkOptions(50.0);
   so.outage_begin_s = 18.0;
   so.outage_end_s = 48.0;
   const Scenario sc = MakeScenario(so);

@@ -145,13 +145,7 @@ double LargestStep(const testing::Scenario& sc, const std::map<TimeNs, StateEsti
 // output gets wrong in 10 ms, the output is the unblended one max_s after the correction, and
 // its covariance is the unblended one plus the square of the offset it shows.
 TEST(OutputBlend, FactorGraphOutputDoesNotJumpWhenTheOutageEnds) {
-  testing::ScenarioOptions so;
-  so.duration_s = 40.0;
-  so.imu_noisy = true;
-  so.gyro_bias = Vec3(2e-4, -3e-4, 4e-4);
-  so.accel_bias = Vec3(0.02, -0.015, 0.01);
-  so.gnss_sigma_h = so.reported_sigma_h = 0.02;
-  so.gnss_sigma_v = so.reported_sigma_v = 0.03;
+  testing::ScenarioOptions so = testing::DriftingImuRtkOptions(40.0);
   so.outage_begin_s = 15.0;
   so.outage_end_s = 27.0;
   const testing::Scenario sc = testing::MakeScenario(so);
