@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -52,40 +53,45 @@ std::optional<fs::path> StageCache::Find(const std::string& stage, const std::st
   return std::nullopt;
 }
 
-fs::path StageCache::Begin(const std::string& stage, const std::string& key) const {
-  const fs::path dir =
-      root_ / stage / (std::string(kTmpPrefix) + key + "-" + std::to_string(getpid()));
+StageCache::PendingEntry::PendingEntry(const StageCache& cache, std::string stage,
+                                       std::string key)
+    : cache_(&cache),
+      stage_(std::move(stage)),
+      key_(std::move(key)),
+      folder_(cache.root_ / stage_ /
+              (std::string(kTmpPrefix) + key_ + "-" + std::to_string(getpid()))) {
   std::error_code ec;
-  fs::remove_all(dir, ec);
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create: " + ec.message());
-  return dir;
+  fs::remove_all(folder_, ec);
+  fs::create_directories(folder_, ec);
+  if (ec) throw InputError(folder_.string() + ": cannot create: " + ec.message());
 }
 
-fs::path StageCache::Publish(const std::string& stage, const std::string& key,
-                             const fs::path& written) const {
-  const fs::path entry = root_ / stage / key;
+StageCache::PendingEntry::PendingEntry(PendingEntry&& other) noexcept
+    : cache_(std::exchange(other.cache_, nullptr)),
+      stage_(std::move(other.stage_)),
+      key_(std::move(other.key_)),
+      folder_(std::move(other.folder_)) {}
+
+StageCache::PendingEntry::~PendingEntry() {
+  if (cache_ == nullptr) return;
   std::error_code ec;
-  fs::rename(written, entry, ec);
-  if (ec) fs::remove_all(written, ec);  // another process published it first
+  fs::remove_all(folder_, ec);
+}
+
+fs::path StageCache::PendingEntry::Publish() {
+  const fs::path entry = cache_->root_ / stage_ / key_;
+  std::error_code ec;
+  fs::rename(folder_, entry, ec);
+  if (ec) fs::remove_all(folder_, ec);  // another process published it first
+  cache_ = nullptr;
   return entry;
 }
 
 fs::path StageCache::Write(const std::string& stage, const std::string& key,
                           const std::function<void(const fs::path&)>& write) const {
-  const fs::path written = Begin(stage, key);
-  try {
-    write(written);
-    return Publish(stage, key, written);
-  } catch (...) {
-    Abandon(written);
-    throw;
-  }
-}
-
-void StageCache::Abandon(const fs::path& written) const {
-  std::error_code ec;
-  fs::remove_all(written, ec);
+  PendingEntry entry = Begin(stage, key);
+  write(entry.folder());
+  return entry.Publish();
 }
 
 StageCache::KeyLock::~KeyLock() {

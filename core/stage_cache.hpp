@@ -36,15 +36,33 @@ class StageCache {
   // counted as a miss.
   std::optional<std::filesystem::path> Find(const std::string& stage, const std::string& key);
 
-  // A fresh, empty folder to write the entry into; Publish() makes it the entry.
-  std::filesystem::path Begin(const std::string& stage, const std::string& key) const;
-  // Renames the folder from Begin() into place (or drops it when another process was first).
-  // Returns the complete entry.
-  std::filesystem::path Publish(const std::string& stage, const std::string& key,
-                                const std::filesystem::path& written) const;
-  // Drops a folder from Begin() (the stage did not complete).
-  void Abandon(const std::filesystem::path& written) const;
-  // Begin, write(folder), Publish; Abandon and rethrow if write throws. Returns the entry.
+  // An entry being written, over a whole run if need be (a stream recorded as it is simulated):
+  // a fresh, empty folder now; Publish() renames it into place (or drops it when another
+  // process was first) and returns the entry; destroyed unpublished (the stage did not
+  // complete), the folder is removed.
+  class PendingEntry {
+   public:
+    PendingEntry(PendingEntry&& other) noexcept;
+    PendingEntry(const PendingEntry&) = delete;
+    PendingEntry& operator=(const PendingEntry&) = delete;
+    PendingEntry& operator=(PendingEntry&&) = delete;
+    ~PendingEntry();
+
+    const std::filesystem::path& folder() const { return folder_; }
+    std::filesystem::path Publish();
+
+   private:
+    friend class StageCache;
+    PendingEntry(const StageCache& cache, std::string stage, std::string key);
+
+    const StageCache* cache_ = nullptr;  // nullptr once published or moved from
+    std::string stage_, key_;
+    std::filesystem::path folder_;
+  };
+  PendingEntry Begin(const std::string& stage, const std::string& key) const {
+    return PendingEntry(*this, stage, key);
+  }
+  // Begin, write(folder), Publish (the folder is dropped if write throws). Returns the entry.
   std::filesystem::path Write(const std::string& stage, const std::string& key,
                               const std::function<void(const std::filesystem::path&)>& write) const;
 

@@ -104,11 +104,10 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
           }
           const auto key = keys.find(id);
           if (key == keys.end()) return model;  // not an entry of the setup (none today)
-          Recording recording{nullptr, key->second, cache_.cache->Begin(kSensorStage, key->second)};
+          StageCache::PendingEntry entry = cache_.cache->Begin(kSensorStage, key->second);
           auto recorder = std::make_unique<sensors::RecordingSensorModel>(
-              std::move(model), recording.folder / kStreamFile);
-          recording.model = recorder.get();
-          recordings_.push_back(recording);
+              std::move(model), entry.folder() / kStreamFile);
+          recordings_.push_back({recorder.get(), std::move(entry)});
           return recorder;
         });
   }
@@ -116,14 +115,10 @@ SensorRun::SensorRun(const Scenario& scenario, const std::filesystem::path& work
                                                                   [this] { return NextTruth(); });
 }
 
-SensorRun::~SensorRun() {
-  for (const Recording& r : recordings_) cache_.cache->Abandon(r.folder);
-}
-
 void SensorRun::PublishRecordings() {
-  for (const Recording& r : recordings_) {
+  for (Recording& r : recordings_) {
     r.model->Close();
-    cache_.cache->Publish(kSensorStage, r.key, r.folder);
+    r.entry.Publish();
   }
   recordings_.clear();
 }

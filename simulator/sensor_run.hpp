@@ -58,7 +58,6 @@ class SensorRun : public sensors::MeasurementSource {
   // files in work_dir/sumo, builds the world. Throws InputError on bad scenario/setup/faults.
   SensorRun(const Scenario& scenario, const std::filesystem::path& work_dir,
             const SensorRunOptions& options = {});
-  ~SensorRun() override;
   SensorRun(const SensorRun&) = delete;
   SensorRun& operator=(const SensorRun&) = delete;
 
@@ -88,8 +87,7 @@ class SensorRun : public sensors::MeasurementSource {
 
   struct Recording {
     sensors::RecordingSensorModel* model = nullptr;  // owned by the suite
-    std::string key;
-    std::filesystem::path folder;  // StageCache::Begin
+    StageCache::PendingEntry entry;                  // dropped unless the truth runs to its end
   };
 
   ScenarioSensors sensors_;

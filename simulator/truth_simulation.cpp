@@ -140,10 +140,6 @@ void TruthSimulation::Reference(TimeNs t_ns, double* s_raw_m, double* v_mps,
   *a_mps2 = a * ds2d_ds3d;
 }
 
-TruthSimulation::~TruthSimulation() {
-  if (record_) record_->cache->Abandon(record_->folder);  // the truth did not run to its end
-}
-
 void TruthSimulation::OpenVehicleStage(const std::optional<std::string>& truth_key,
                                        const StageCacheUse& cache) {
   if (!truth_key) return;  // a scenario built in memory
@@ -154,15 +150,15 @@ void TruthSimulation::OpenVehicleStage(const std::optional<std::string>& truth_k
     replay_ = std::make_unique<BinaryReader>(*entry / kTruthFile);
     return;
   }
-  Recording recording{cache.cache, key, cache.cache->Begin(kVehicleStage, key), nullptr};
-  recording.writer = std::make_unique<BinaryWriter>(recording.folder / kTruthFile);
-  record_ = std::move(recording);
+  StageCache::PendingEntry entry = cache.cache->Begin(kVehicleStage, key);
+  auto writer = std::make_unique<BinaryWriter>(entry.folder() / kTruthFile);
+  record_.emplace(Recording{std::move(entry), std::move(writer)});
 }
 
 void TruthSimulation::PublishRecording() {
   WriteTruthEnd(*record_->writer);
   record_->writer->Close();
-  record_->cache->Publish(kVehicleStage, record_->key, record_->folder);
+  record_->entry.Publish();
   record_.reset();
 }
 

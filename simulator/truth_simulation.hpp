@@ -60,9 +60,6 @@ class TruthSimulation {
   // when it holds them (the same bits), and go into it when the truth runs to its end.
   TruthSimulation(const Scenario& scenario, const std::filesystem::path& work_dir,
                   const SumoRunOptions& sumo_options = {}, const StageCacheUse& cache = {});
-  ~TruthSimulation();
-  TruthSimulation(const TruthSimulation&) = delete;
-  TruthSimulation& operator=(const TruthSimulation&) = delete;
 
   // The next 1 kHz truth sample (the first is t = 0); false once the end time is reached.
   bool Next(TruthSample* sample);
@@ -101,9 +98,7 @@ class TruthSimulation {
   double distance_at_60s_ = -1.0;
 
   struct Recording {
-    StageCache* cache = nullptr;
-    std::string key;
-    std::filesystem::path folder;  // StageCache::Begin
+    StageCache::PendingEntry entry;  // dropped unless the truth runs to its end
     std::unique_ptr<BinaryWriter> writer;
   };
   std::unique_ptr<BinaryReader> replay_;
