@@ -1,6 +1,9 @@
-// The beam section of a lidar packets file (lidar_packet_file.hpp, bytes 21 to 44 + 8 C) and the
+// The beam section of a lidar packets file (lidar_packet_file.hpp, bytes 29 to 52 + 8 C) and the
 // tables regenerated from it: every beam's direction and every column's firing time, computed by
-// LidarBeamModel's own functions and kept per thread for the next sweep of the same lidar.
+// LidarBeamModel's own functions (cos and sin of the C library) and kept per thread for the next
+// sweep of the same lidar, with a checksum of the directions' bits that the file also carries
+// (bytes 20-27): a reader whose cos or sin round differently from the writer's would rebuild
+// other points, and says so instead.
 #pragma once
 
 #include <cstdint>
@@ -10,11 +13,10 @@
 
 #include "core/eigen_types.hpp"
 #include "sensors/lidar_beam_model.hpp"
+#include "sensors/lidar_packet_layout.hpp"
 
 namespace statebench::sensors::lidar_packets {
 
-inline constexpr std::size_t kBeamSectionBegin = 21;
-inline constexpr std::size_t kElevationsBegin = 44;
 inline constexpr int kMaxChannels = 1024;
 inline constexpr int kMaxColumns = 1 << 20;
 inline constexpr std::int64_t kMaxBeams = 1 << 21;
@@ -37,12 +39,18 @@ struct BeamTable {
   int columns = 0;
   std::vector<Vec3> directions;  // [column * channels + ring]
   std::vector<float> t_s;        // by column
+  std::uint64_t checksum = 0;    // FNV-1a over the bits of the directions, in table order
 };
 
 // The tables of a beam section (`section` holds BeamSectionBytes(C) bytes, C from its bytes 1-2),
 // valid until the next call on this thread. Throws InputError naming `file` and the field when
 // the section's model is outside the limits (channels, columns, rate, a non-finite angle).
+// A reader compares the table's checksum with the file's (CheckDirections).
 const BeamTable& BeamTableOf(std::span<const std::uint8_t> section,
                              const std::filesystem::path& file);
+
+// Throws InputError naming `file` unless the file's checksum is the table's.
+void CheckDirections(const BeamTable& table, std::uint64_t file_checksum,
+                     const std::filesystem::path& file);
 
 }  // namespace statebench::sensors::lidar_packets

@@ -14,14 +14,15 @@
 //   8        4      format version: 1
 //   12       4      n, the number of returns
 //   16       4      m, the number of raw points
-//   20       1      intensity encoding: 0 uint8 (every intensity a whole number 0..255), 1 float32
-//   21       1      1 when the head spins clockwise (seen from above), else 0
-//   22       2      C, channels (1 to 1024)
-//   24       4      N, columns per revolution (1 to 2^20; C N at most 2^21)
-//   28       8      rotation rate, Hz
-//   36       8      azimuth of column 0, rad
-//   44       8 C    the rings' elevations, rad, ring 0 first
-//   44+8C    N B    hit masks, B = ceil(C / 8) bytes a column: bit r % 8 of byte r / 8 is set
+//   20       8      checksum of the beam directions the writer computed (lidar_packet_beams.hpp)
+//   28       1      intensity encoding: 0 uint8 (every intensity a whole number 0..255), 1 float32
+//   29       1      1 when the head spins clockwise (seen from above), else 0
+//   30       2      C, channels (1 to 1024)
+//   32       4      N, columns per revolution (1 to 2^20; C N at most 2^21)
+//   36       8      rotation rate, Hz
+//   44       8      azimuth of column 0, rad
+//   52       8 C    the rings' elevations, rad, ring 0 first
+//   52+8C    N B    hit masks, B = ceil(C / 8) bytes a column: bit r % 8 of byte r / 8 is set
 //                   when ring r of the column returned
 //   ...      4 n    range words, in point order
 //   ...      n/4 n  intensities, uint8 or float32
@@ -52,7 +53,8 @@ std::optional<std::vector<std::uint8_t>> EncodeLidarPackets(const std::vector<Li
 // The points of a packets file's bytes. Throws InputError naming `file` and the field when they
 // are not a packets file of this version, too short or too long for their header, or hold
 // impossible values (a beam model outside the limits, masks that disagree with n, ring bits
-// beyond C, raw point indices not increasing below n).
+// beyond C, raw point indices not increasing below n), or when the beam directions computed here
+// differ from the writer's (the checksum: another C library's cos or sin).
 std::vector<LidarPoint> DecodeLidarPackets(std::span<const std::uint8_t> bytes,
                                            const std::filesystem::path& file);
 

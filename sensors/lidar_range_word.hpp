@@ -41,7 +41,8 @@ inline std::optional<std::uint32_t> WordOfRange(double range_m) {
   }
   constexpr int kDropped = 52 - kRangeWordFractionBits;
   if ((bits & ((std::uint64_t{1} << kDropped) - 1)) != 0) return std::nullopt;
-  const auto fraction = static_cast<std::uint32_t>((bits >> kDropped) & ((1u << kRangeWordFractionBits) - 1u));
+  const auto fraction =
+      static_cast<std::uint32_t>((bits >> kDropped) & ((1u << kRangeWordFractionBits) - 1u));
   return (static_cast<std::uint32_t>(binade - kRangeWordLowestBinade) << kRangeWordFractionBits) |
          fraction;
 }

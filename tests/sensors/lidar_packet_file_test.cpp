@@ -88,7 +88,7 @@ TEST_F(LidarPacketFile, FaultedPointsAndFractionalIntensitiesReadBackBitForBit) 
   points[11].z = 1e30f;
   points[12] = LidarPoint{0.f, 0.f, 0.f, points[12].intensity, points[12].t, points[12].ring};
   points[20].x = std::nextafter(points[20].x, 1e9f);  // one float step off its beam
-  points[30].intensity = 0.25f;                        // not a whole number: float32 intensities
+  points[30].intensity = 0.25f;                       // not a whole number: float32 intensities
   points[31].intensity = -0.f;
   const auto bytes = EncodeLidarPackets(points, sweep.params.beams);
   ASSERT_TRUE(bytes.has_value());
@@ -140,22 +140,23 @@ TEST_F(LidarPacketFile, DamagedFilesNameTheFileAndTheField) {
     std::copy(value.begin(), value.end(), b.begin() + static_cast<std::ptrdiff_t>(at));
     return b;
   };
-  const std::size_t masks = 44 + 8 * 32;
+  const std::size_t masks = 52 + 8 * 32;
   const struct {
     std::vector<std::uint8_t> bytes;
     std::string message;
   } cases[] = {
-      {{good.begin(), good.begin() + 30}, "truncated: 30 bytes, the header alone takes 44"},
+      {{good.begin(), good.begin() + 30}, "truncated: 30 bytes, the header alone takes 52"},
       {{good.begin(), good.end() - 1}, "truncated: " + std::to_string(good.size() - 1) + " bytes"},
       {with(good.size(), {}), ""},
       {with(0, {'P', 'C', 'D'}), "not a StateBench lidar packets file"},
       {with(8, {2, 0, 0, 0}), "field 'version': 2, this reader knows 1"},
-      {with(20, {7}), "field 'intensity encoding': 7"},
-      {with(21, {3}), "field 'clockwise': 3"},
-      {with(22, {0, 0}), "field 'channels': 0"},
-      {with(24, {0, 0, 0, 0x10}), "field 'columns'"},
-      {with(28, {0, 0, 0, 0, 0, 0, 0xF8, 0x7F}), "field 'rotation rate'"},
-      {with(44, {0, 0, 0, 0, 0, 0, 0xF0, 0x7F}), "field 'elevations': ring 0 is not finite"},
+      {with(28, {7}), "field 'intensity encoding': 7"},
+      {with(29, {3}), "field 'clockwise': 3"},
+      {with(30, {0, 0}), "field 'channels': 0"},
+      {with(32, {0, 0, 0, 0x10}), "field 'columns'"},
+      {with(36, {0, 0, 0, 0, 0, 0, 0xF8, 0x7F}), "field 'rotation rate'"},
+      {with(52, {0, 0, 0, 0, 0, 0, 0xF0, 0x7F}), "field 'elevations': ring 0 is not finite"},
+      {with(20, {static_cast<std::uint8_t>(good[20] ^ 0x10)}), "field 'direction checksum'"},
       {with(12, {0, 0, 0, 0}), "too long"},
       {with(masks, {static_cast<std::uint8_t>(good[masks] ^ 0x01)}), "field 'hit masks'"},
   };
@@ -198,7 +199,7 @@ TEST_F(LidarPacketFile, RingBitsBeyondTheChannelsAreRefused) {
   const auto d = odd.Direction(0, 2);
   points.push_back(BeamReturn(d, 10.0, 5.f, odd.ColumnTimeS(0), 2));
   std::vector<std::uint8_t> bytes = *EncodeLidarPackets(points, odd);
-  const std::size_t mask = 44 + 8 * 15;
+  const std::size_t mask = 52 + 8 * 15;
   bytes[mask + 1] |= 0x80;  // ring 15 of column 0
   bytes[mask] &= 0xFB;      // ring 2 gone: still one return
   EXPECT_NE(DecodeError(bytes).find("field 'hit masks': column 0 has a return of a ring beyond"),
