@@ -13,6 +13,7 @@
 
 #include "core/running_statistics.hpp"
 #include "core/time.hpp"
+#include "estimator/imu_noise_monitor.hpp"
 
 namespace statebench::est {
 
@@ -148,6 +149,8 @@ struct EstimatorDiagnostics {
   // gated out for longer than gate_reset_s while the fixes agreed with each other, or an IMU
   // gap), and how it re-initialised each time.
   std::vector<LostEpisode> lost;
+  // The IMU noise measured and used (imu_noise_monitor.hpp); the factor graph's only.
+  std::optional<ImuNoiseReport> imu_noise;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   UpdateLog updates;
 

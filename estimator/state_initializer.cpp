@@ -6,6 +6,7 @@
 
 #include "core/so3.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "estimator/imu_window_statistics.hpp"
 
 namespace statebench::est {
 namespace {
@@ -88,8 +89,18 @@ void StateInitializer::UpdateStill() {
                        [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
   const std::span<const ImuSample> window(first, imu_.end());
   if (window.size() < 2) return;
-  const Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
-  const Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
+  Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  // An engine running: the window is still when its low band is quiet.
+  if (options_.static_lowpass_s > 0.0 &&
+      (gyro.std.maxCoeff() > options_.static_max_gyro_std_radps ||
+       accel.std.maxCoeff() > options_.static_max_accel_std_mps2)) {
+    const ImuBands bands = SplitImuBands(window, options_.static_lowpass_s);
+    if (bands.valid()) {
+      gyro.std = bands.gyro.lowpass_std;
+      accel.std = bands.accel.lowpass_std;
+    }
+  }
   const double gravity_error = std::abs(accel.mean.norm() - kGravity);
   const double score = std::max({gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
                                  accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
