@@ -7,6 +7,22 @@
 
 namespace statebench::est {
 
+bool BodyVelocityReadsZero(const BodyVelocity& v, double max_speed_mps) {
+  const double unmeasured = BodyVelocityFrontEnd::kUnmeasuredVariance;
+  bool measured = false;
+  for (int i = 0; i < 3; ++i) {
+    if (!(v.covariance(i, i) < unmeasured)) continue;
+    measured = true;
+    if (std::abs(v.velocity[i]) > max_speed_mps) return false;
+  }
+  // A turn on the spot moves no point of the axle: the wheels' yaw rate, when measured, must be
+  // zero too (to a wheel speed difference of max_speed_mps over a 1 m track).
+  if (v.covariance(5, 5) < unmeasured && std::abs(v.angular_velocity.z()) > max_speed_mps) {
+    return false;
+  }
+  return measured;
+}
+
 BodyVelocityFrontEnd::BodyVelocityFrontEnd(const EstimatorSensorSetup& setup,
                                            const FactorGraphOptions& options, FrontEndContext& ctx)
     : setup_(setup),
@@ -29,12 +45,8 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
     if (!ctx_.initializer.local().enabled) {
       return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kNotInitialized);
     }
-    OdometryVelocity o;
-    o.t_ns = v.header.stamp_ns;
-    o.v_frame = v.velocity;
-    o.variance = v.covariance.diagonal().head<3>();
-    o.p_imu_point = sensor.T_imu_sensor.translation();
-    o.q_imu_frame = sensor.T_imu_sensor.rotation();
+    const OdometryVelocity o = MakeOdometryVelocity(
+        v.header.stamp_ns, v.velocity, v.covariance.diagonal().head<3>(), sensor.T_imu_sensor);
     if (!(o.variance.minCoeff() < kUnmeasuredVariance)) {
       return ctx_.Reject(id, v.header.stamp_ns, RejectReason::kInvalidCovariance);
     }
@@ -60,7 +72,7 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
   ctx_.Accept(id, v.header.stamp_ns);
   ctx_.Count(id, "body_velocity_factors");
   if (!options_.zero_velocity.enabled) return;
-  if (!ReadsZero(v)) {
+  if (!BodyVelocityReadsZero(v, options_.zero_velocity.max_encoder_speed_mps)) {
     zero_since_ns_.reset();
     recent_imu_.clear();
     return;
@@ -77,22 +89,6 @@ void BodyVelocityFrontEnd::OnImu(const ImuSample& sample) {
 void BodyVelocityFrontEnd::OnRestart() {
   zero_since_ns_.reset();
   recent_imu_.clear();
-}
-
-bool BodyVelocityFrontEnd::ReadsZero(const BodyVelocity& v) const {
-  const double max_speed = options_.zero_velocity.max_encoder_speed_mps;
-  bool measured = false;
-  for (int i = 0; i < 3; ++i) {
-    if (!(v.covariance(i, i) < kUnmeasuredVariance)) continue;
-    measured = true;
-    if (std::abs(v.velocity[i]) > max_speed) return false;
-  }
-  // A turn on the spot moves no point of the axle: the wheels' yaw rate, when measured, must be
-  // zero too (to a wheel speed difference of max_speed over a 1 m track).
-  if (v.covariance(5, 5) < kUnmeasuredVariance && std::abs(v.angular_velocity.z()) > max_speed) {
-    return false;
-  }
-  return measured;
 }
 
 void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {

@@ -23,6 +23,12 @@
 
 namespace statebench::est {
 
+// Whether wheel odometry v reads zero: every measured component (variance below
+// BodyVelocityFrontEnd::kUnmeasuredVariance), and the yaw rate if measured, within
+// max_speed_mps (the yaw rate: a wheel speed difference of max_speed_mps over a 1 m track); false
+// when nothing is measured.
+bool BodyVelocityReadsZero(const BodyVelocity& v, double max_speed_mps);
+
 class BodyVelocityFrontEnd final : public MeasurementFrontEnd {
  public:
   static constexpr double kUnmeasuredVariance = 1e2;  // (m/s)^2
@@ -39,8 +45,6 @@ class BodyVelocityFrontEnd final : public MeasurementFrontEnd {
   void OnRestart() override;
 
  private:
-  // Whether v reads zero (every measured component, and the yaw rate if measured).
-  bool ReadsZero(const BodyVelocity& v) const;
   // The zero-rate factor over the IMU samples since the previous sample of sensor `id`.
   void AddZeroRate(const std::string& id, TimeNs t_ns);
 

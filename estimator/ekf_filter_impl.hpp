@@ -1,7 +1,9 @@
 // Internal to EkfSingleTrackEstimator (not part of the estimator's API): the filter's members and
 // the sensor roles it resolves from the setup. Measurement intake, reordering and the output are
-// in ekf_single_track.cpp; propagation, the measurement updates and the initialisation in
-// ekf_measurement_updates.cpp; the vehicle model in ekf_single_track_model.hpp.
+// in ekf_single_track.cpp; propagation, the measurement updates and the initialisation from GNSS
+// in ekf_measurement_updates.cpp; the odometry updates in ekf_odometry_updates.cpp; the start in
+// a local frame (no GNSS antenna) in ekf_local_start.cpp; the vehicle model in
+// ekf_single_track_model.hpp.
 #pragma once
 
 #include <Eigen/Eigenvalues>
@@ -17,20 +19,25 @@
 #include "estimator/ekf_single_track_model.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/refused_fix_track.hpp"
+#include "estimator/state_initializer.hpp"
 
 namespace statebench::est {
 namespace ekf {
 
 inline constexpr double kMaxSubstepS = 0.0025;
-inline constexpr double kMaxAbsSteeringRad = 1.2;  // beyond any road-wheel angle
-inline constexpr double kMaxAbsSpeedMps = 100.0;
+// IMU samples kept between two zero readings of the odometry (5 s at 100 Hz); more: the odometry
+// stopped sending, the standstill test starts again.
+inline constexpr std::size_t kMaxStandstillSamples = 500;
 
-// A GNSS antenna, a speed encoder, or a steering encoder, resolved from the setup.
-enum class Role { kImu, kGnss, kSpeed, kSteering, kHeading, kUnsupported };
+// A GNSS antenna, a speed encoder, a steering encoder, a heading or a body-velocity odometry,
+// resolved from the setup.
+enum class Role { kImu, kGnss, kSpeed, kSteering, kHeading, kBodyVelocity, kUnsupported };
 
 struct SensorInfo {
   Role role = Role::kUnsupported;
   Vec3 p_body_sensor = Vec3::Zero();
+  Mat3 R_body_sensor = Mat3::Identity();
+  SE3 T_imu_sensor;  // for the local start's odometry
   double covariance_scale = 1.0;
   double min_sigma_m = 0.0;
   double yaw_offset_rad = 0.0;  // heading: yaw of the antenna baseline in the body frame
@@ -63,7 +70,11 @@ struct EkfSingleTrackEstimator::Impl {
   std::string course_antenna;
   bool has_steering = false;  // without a steering encoder r is a random walk, vy relaxes to 0
   std::optional<ekf::SingleTrackModel> model;  // once the setup is read
-
+  // Without a GNSS antenna the filter starts in a local frame (ekf_local_start.cpp) from this
+  // initialiser (the factor graph's, state_initializer.hpp); its WGS84 output is local_frame,
+  // placed at latitude, longitude and height 0 (meaningless: the status says `local`).
+  std::optional<StateInitializer> local_start;
+  LocalEnuFrame local_frame{GeodeticPoint{0.0, 0.0, 0.0}};
   EstimatorDiagnostics diag;
   std::optional<LocalEnuFrame> frame;
   TimeNs newest_arrival_ns = std::numeric_limits<TimeNs>::min();
@@ -146,7 +157,30 @@ struct EkfSingleTrackEstimator::Impl {
 
   void UpdateGyro(double gz_body);
 
+  // Odometry (ekf_odometry_updates.cpp): the measured components of the velocity of a point of
+  // the vehicle in a frame fixed to it (ekf_point_velocity.hpp), each with its variance (one of
+  // BodyVelocityFrontEnd::kUnmeasuredVariance or more: not measured). Each component is gated on
+  // speed_gate_chi2 (1 dof; the sample is refused when one is outside, the gate reopening after
+  // gate_reset_s), then the components update the filter one after the other (exact: the model
+  // is linear and the components independent).
+  void UpdatePointVelocity(const std::string& id, TimeNs stamp_ns, const Mat3& R_body_sensor,
+                           const Vec3& p_body_point, const Vec3& measured, const Vec3& variance);
+  // Speed encoder: the body-x velocity of its wheel, speed_sigma_mps.
   void UpdateSpeed(const std::string& id, const SensorInfo& info, const VehicleSpeed& m);
+  // body_velocity: the measured components of the sensor origin's velocity in the sensor frame
+  // with their reported variances (floored at BodyVelocityFrontEnd::kMinSigmaMps); the angular
+  // velocity is not used (the gyro measures it), as in the factor graph.
+  void UpdateBodyVelocity(const std::string& id, const SensorInfo& info, const BodyVelocity& m);
+  // Standstill from the odometry, as the factor graph's zero-rate factor
+  // (body_velocity_front_end.hpp): two consecutive samples of a body_velocity sensor reading
+  // zero (BodyVelocityReadsZero, ZeroVelocityOptions' max_encoder_speed_mps), the IMU quiet
+  // between them (ZeroVelocityOptions' gyro and accel thresholds) and its mean body-z rate within
+  // BodyVelocityFrontEnd::kMaxStillRateRadps of b_g: that mean measures b_g with the sigma
+  // gyro_sigma_radps / sqrt(samples). Counted as the sensor's `zero_rate_updates` event.
+  // Without an absolute heading it is what keeps b_g, hence the yaw, from drifting.
+  void UpdateStandstill(const std::string& id, const BodyVelocity& m);
+  std::optional<TimeNs> odometry_zero_since_ns;  // the previous sample read zero, at this stamp
+  std::vector<ImuSample> standstill_imu;         // IMU samples after odometry_zero_since_ns
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
   // vehicle is planar, the baseline's pitch is not used).
@@ -174,6 +208,14 @@ struct EkfSingleTrackEstimator::Impl {
   // ---- initialisation ------------------------------------------------------------------------
 
   void TryInitialize(const std::string& id, const SensorInfo& info, const GnssPositionEnu& fix);
+  // Local frame (ekf_local_start.cpp): odometry for the initialiser before the start; the IMU
+  // sample (gyro_z_body: its body-z rate) that may start it, at its stamp.
+  void ResetLocalStart();  // a fresh initialiser (at construction and after StartOver)
+  void FeedLocalStart(const std::string& id, const SensorInfo& info, const Measurement& m);
+  void TryStartLocal(const ImuSample& sample, double gyro_z_body);
+  // The planar state from the initialiser's first state (yaw of the body x axis, the IMU's
+  // position and velocity moved to the body origin, the body-z gyro bias).
+  void InitializeFrom(const InitialState& first, double gyro_z_body);
   // What the initialisation is waiting for, one line (EstimatorDiagnostics::waiting_for).
   std::string WaitingFor() const;
 

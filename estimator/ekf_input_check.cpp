@@ -16,7 +16,6 @@ const char* KindName(SensorKind kind) {
   switch (kind) {
     case SensorKind::kWheelEncoders: return "wheel_encoders";
     case SensorKind::kLidar: return "lidar";
-    case SensorKind::kBodyVelocity: return "body_velocity";
     default: return "";
   }
 }
@@ -36,13 +35,17 @@ void CheckAxle(const std::string& id, const char* axle, double mount_x, double a
 std::vector<std::string> EkfInputWarnings(const EstimatorSensorSetup& setup,
                                           const SingleTrackParams& vehicle) {
   std::vector<std::string> out;
-  bool speed = false, steering = false;
+  bool speed = false, steering = false, gnss = false;
   std::string unused;
   for (const EstimatorSensor& s : setup.sensors) {
     const double x = s.T_body_sensor.translation().x();
     if (s.kind == SensorKind::kSpeedEncoder) {
       speed = true;
       CheckAxle(s.id, "rear", x, -vehicle.cg_to_rear_axle_m, &out);
+    } else if (s.kind == SensorKind::kBodyVelocity) {
+      speed = true;  // its measured components, at its mount
+    } else if (s.kind == SensorKind::kGnss) {
+      gnss = true;
     } else if (s.kind == SensorKind::kSteeringEncoder) {
       steering = true;
       CheckAxle(s.id, "front", x, vehicle.cg_to_front_axle_m, &out);
@@ -50,9 +53,14 @@ std::vector<std::string> EkfInputWarnings(const EstimatorSensorSetup& setup,
       unused += (unused.empty() ? "" : ", ") + s.id + " (" + KindName(s.kind) + ")";
     }
   }
+  if (!gnss) {
+    out.push_back("no GNSS antenna: a local frame (the IMU at 0, the vehicle's forward axis along "
+                  "x at the start); position and yaw drift without bound");
+  }
   if (!speed) {
-    out.push_back("no speed input (speed_encoder): the speed comes from the IMU's longitudinal "
-                  "acceleration between GNSS fixes only");
+    out.push_back(std::string("no speed input (speed_encoder or body_velocity): the speed comes "
+                              "from the IMU's longitudinal acceleration ") +
+                  (gnss ? "between GNSS fixes only" : "alone and drifts without bound"));
   }
   if (!steering) {
     out.push_back("no steering input (steering_encoder): no single-track lateral dynamics; the "

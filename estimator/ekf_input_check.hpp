@@ -1,7 +1,8 @@
 // What the single-track EKF (ekf_single_track.hpp) lacks or has to take on trust in a sensor
-// setup, said before it runs (EstimatorDiagnostics::warnings): a missing speed or steering
-// input changes what the filter is, sensors it cannot use are ignored, and a vehicle file whose
-// axles are not where the setup's encoders are is probably another vehicle's.
+// setup, said before it runs (EstimatorDiagnostics::warnings): no GNSS antenna (a local frame), a
+// missing speed input (speed_encoder or body_velocity) or steering input changes what the filter
+// is, sensors it cannot use are ignored, and a vehicle file whose axles are not where the
+// setup's encoders are is probably another vehicle's.
 #pragma once
 
 #include <string>

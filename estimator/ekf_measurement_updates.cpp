@@ -1,5 +1,6 @@
-// The EKF's propagation, measurement updates (gyro yaw rate, encoder speed, dual-antenna
-// heading, GNSS position with the lever arm) and its initialisation from the GNSS course.
+// The EKF's propagation, measurement updates (gyro yaw rate, dual-antenna heading, GNSS position
+// with the lever arm and Doppler velocity) and its initialisation from the GNSS course. The
+// odometry updates are in ekf_odometry_updates.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,8 +13,6 @@ namespace statebench::est {
 namespace {
 
 using namespace ekf;  // NOLINT: the state layout (kX, kPsi, ...) and the sensor roles
-
-Mat3 Rz(double psi) { return Eigen::AngleAxisd(psi, Vec3::UnitZ()).toRotationMatrix(); }
 
 }  // namespace
 
@@ -48,25 +47,6 @@ void EkfSingleTrackEstimator::Impl::UpdateGyro(double gz_body) {
   Eigen::Matrix<double, 1, 1> y(gz_body - x[kR] - x[kBg]);
   Eigen::Matrix<double, 1, 1> R(options.gyro_sigma_radps * options.gyro_sigma_radps);
   Update<1>(y, H, R);
-}
-
-void EkfSingleTrackEstimator::Impl::UpdateSpeed(const std::string& id, const SensorInfo& info,
-                                                const VehicleSpeed& m) {
-  Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
-  const double ly = info.p_body_sensor.y();
-  H(0, kVx) = 1.0;
-  H(0, kR) = -ly;
-  Eigen::Matrix<double, 1, 1> y(m.speed_mps - (x[kVx] - x[kR] * ly));
-  Eigen::Matrix<double, 1, 1> R(options.speed_sigma_mps * options.speed_sigma_mps);
-  const auto last = last_accepted_speed_ns.find(id);
-  if (!Gate(Mahalanobis<1>(y, H, R), options.speed_gate_chi2, m.header.stamp_ns,
-            last == last_accepted_speed_ns.end() ? initialized_ns : last->second)) {
-    Reject(id, m.header.stamp_ns, RejectReason::kMahalanobisGate);
-    return;
-  }
-  Update<1>(y, H, R);
-  last_accepted_speed_ns[id] = m.header.stamp_ns;
-  Accept(id, m.header.stamp_ns);
 }
 
 void EkfSingleTrackEstimator::Impl::UpdateHeading(const std::string& id, const SensorInfo& info,
@@ -202,7 +182,7 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
     if (speed < 0.0) yaw = so3::WrapAngle(yaw + std::numbers::pi);
   }
   const Mat3& cov = cov_now;
-  const Vec2 Rl = (Rz(yaw) * info.p_body_sensor).head<2>();
+  const Vec2 Rl = (YawRotation(yaw) * info.p_body_sensor).head<2>();
   x = VecN::Zero();
   x[kX] = fix.p_enu.x() - Rl.x();
   x[kY] = fix.p_enu.y() - Rl.y();
@@ -245,6 +225,9 @@ void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stam
   last_accepted_gnss_ns.clear();
   last_accepted_speed_ns.clear();
   last_accepted_heading_ns.clear();
+  odometry_zero_since_ns.reset();
+  standstill_imu.clear();
+  if (local_start) ResetLocalStart();  // a new local frame from the next start
 }
 
 }  // namespace statebench::est

@@ -66,7 +66,8 @@ const OptionTable<EkfOptions>& EkfOptionTable() {
                 "reported, not estimated")
         .Number("gnss_max_sigma_m", &E::gnss_max_sigma_m, p, "reported GNSS sigma threshold")
         .Number("gnss_gate_chi2", &E::gnss_gate_chi2, p, "2 dof (horizontal)")
-        .Number("speed_gate_chi2", &E::speed_gate_chi2, p, "1 dof")
+        .Number("speed_gate_chi2", &E::speed_gate_chi2, p,
+                "1 dof: the speed encoder and each body_velocity component")
         .Number("heading_max_sigma_rad", &E::heading_max_sigma_rad, p,
                 "dual-antenna heading threshold")
         .Number("heading_gate_chi2", &E::heading_gate_chi2, p, "1 dof")

@@ -64,7 +64,7 @@ struct EkfOptions {
   // rejections.
   double gnss_max_sigma_m = 5.0;
   double gnss_gate_chi2 = 13.82;       // 2 dof (horizontal)
-  double speed_gate_chi2 = 10.83;      // 1 dof
+  double speed_gate_chi2 = 10.83;      // 1 dof: speed encoder, each body_velocity component
   double heading_max_sigma_rad = 0.2;  // dual-antenna heading threshold
   double heading_gate_chi2 = 10.83;    // 1 dof
   double gate_reset_s = 10.0;

@@ -3,11 +3,6 @@
 #include "core/so3.hpp"
 
 namespace statebench::est::ekf {
-namespace {
-
-Mat3 Rz(double psi) { return Eigen::AngleAxisd(psi, Vec3::UnitZ()).toRotationMatrix(); }
-
-}  // namespace
 
 StateEstimate EkfOutput(const Snapshot& snap, TimeNs t_out_ns, const EkfOutputContext& c) {
   VecN s = snap.x;
@@ -16,7 +11,7 @@ StateEstimate EkfOutput(const Snapshot& snap, TimeNs t_out_ns, const EkfOutputCo
     s += dt * c.model.Derivative(s, snap.accel_x, snap.steering);
     s[kPsi] = so3::WrapAngle(s[kPsi]);
   }
-  const Mat3 R_world_body = Rz(s[kPsi]);
+  const Mat3 R_world_body = YawRotation(s[kPsi]);
   const Mat3 R_world_imu = R_world_body * c.R_body_imu;
   const Vec3 omega_body(0.0, 0.0, s[kR]);
   const Vec3 v_body = Vec3(s[kVx], s[kVy], 0.0) + omega_body.cross(c.p_body_imu);

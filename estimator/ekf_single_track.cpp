@@ -28,6 +28,8 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
   for (const EstimatorSensor& sensor : setup.sensors) {
     SensorInfo info;
     info.p_body_sensor = sensor.T_body_sensor.translation();
+    info.R_body_sensor = sensor.T_body_sensor.rotation().toRotationMatrix();
+    info.T_imu_sensor = sensor.T_imu_sensor;
     switch (sensor.kind) {
       case SensorKind::kImu:
         info.role = sensor.id == setup.imu_id ? Role::kImu : Role::kUnsupported;
@@ -49,6 +51,9 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
         info.role = Role::kSteering;
         has_steering = true;
         break;
+      case SensorKind::kBodyVelocity:
+        info.role = Role::kBodyVelocity;
+        break;
       default:
         info.role = Role::kUnsupported;
     }
@@ -62,9 +67,7 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
     info.yaw_offset_rad = std::atan2(baseline_body.y(), baseline_body.x());
     sensors[pair.heading_id] = info;
   }
-  if (course_antenna.empty()) {
-    throw InputError(setup.source + ": the ekf estimator needs a GNSS antenna in the setup");
-  }
+  if (course_antenna.empty()) ResetLocalStart();  // no GNSS: a local frame
   model.emplace(options, p_body_imu, has_steering);
   diag.warnings = EkfInputWarnings(setup, options.vehicle);
 }
@@ -95,10 +98,18 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
   } else if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
     encoder_speed = speed->speed_mps;
     if (!initialized) {
+      if (local_start) FeedLocalStart(id, info, m);
       Accept(id, HeaderOf(m).stamp_ns);
       return;
     }
     UpdateSpeed(id, info, *speed);
+  } else if (const auto* velocity = std::get_if<BodyVelocity>(&m)) {
+    if (!initialized) {
+      // Before a local start the initialiser takes it; with GNSS the course starts the filter.
+      if (local_start) return FeedLocalStart(id, info, m);
+      return Reject(id, velocity->header.stamp_ns, RejectReason::kNotInitialized);
+    }
+    UpdateBodyVelocity(id, info, *velocity);
   } else if (const auto* heading = std::get_if<DualAntennaHeading>(&m)) {
     if (!initialized) {
       Reject(id, heading->header.stamp_ns, RejectReason::kNotInitialized);
@@ -147,7 +158,15 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   accel_x = accel_body.x();
   ReleasePending(sample.header.stamp_ns);
   last_imu_ns = sample.header.stamp_ns;
+  if (!initialized && local_start) TryStartLocal(sample, gyro_body.z());
   if (!initialized) return;
+  if (odometry_zero_since_ns && sample.header.stamp_ns > *odometry_zero_since_ns) {
+    standstill_imu.push_back(sample);
+    if (standstill_imu.size() > kMaxStandstillSamples) {  // the odometry stopped reading
+      odometry_zero_since_ns.reset();
+      standstill_imu.clear();
+    }
+  }
   Propagate(sample.header.stamp_ns);
   UpdateGyro(gyro_body.z());
   PushHistory();
@@ -158,14 +177,9 @@ std::optional<RejectReason> EkfSingleTrackEstimator::Impl::CheckOther(const Meas
   if (const auto* heading = std::get_if<DualAntennaHeading>(&m)) {
     return CheckDualAntennaHeading(*heading);
   }
-  if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
-    if (!std::isfinite(speed->speed_mps)) return RejectReason::kNonFinite;
-    if (std::abs(speed->speed_mps) > kMaxAbsSpeedMps) return RejectReason::kAbsurdValue;
-  }
-  if (const auto* angle = std::get_if<SteeringAngle>(&m)) {
-    if (!std::isfinite(angle->angle_rad)) return RejectReason::kNonFinite;
-    if (std::abs(angle->angle_rad) > kMaxAbsSteeringRad) return RejectReason::kAbsurdValue;
-  }
+  if (const auto* speed = std::get_if<VehicleSpeed>(&m)) return CheckVehicleSpeed(*speed);
+  if (const auto* angle = std::get_if<SteeringAngle>(&m)) return CheckSteeringAngle(*angle);
+  if (const auto* velocity = std::get_if<BodyVelocity>(&m)) return CheckBodyVelocity(*velocity);
   return std::nullopt;
 }
 
@@ -181,6 +195,8 @@ bool EkfSingleTrackEstimator::Impl::TypeFits(Role role, const Measurement& m) {
       return std::holds_alternative<SteeringAngle>(m);
     case Role::kHeading:
       return std::holds_alternative<DualAntennaHeading>(m);
+    case Role::kBodyVelocity:
+      return std::holds_alternative<BodyVelocity>(m);
     case Role::kUnsupported:
       return true;
   }
@@ -243,8 +259,8 @@ std::optional<StateEstimate> EkfSingleTrackEstimator::Impl::StateAt(TimeNs t_out
   auto it = std::upper_bound(history.begin(), history.end(), t_out_ns,
                              [](TimeNs t, const Snapshot& s) { return t < s.t_ns; });
   --it;
-  StateEstimate out = EkfOutput(
-      *it, t_out_ns, {*model, options, R_body_imu, p_body_imu, frame ? &*frame : nullptr});
+  const LocalEnuFrame* enu = local_start ? &local_frame : (frame ? &*frame : nullptr);
+  StateEstimate out = EkfOutput(*it, t_out_ns, {*model, options, R_body_imu, p_body_imu, enu});
   if (!out.state.p_world.allFinite() || !out.covariance.allFinite()) return std::nullopt;
   out.status = StatusAt(diag, position_sensors, t_out_ns);
   return out;
@@ -264,7 +280,9 @@ std::optional<StateEstimate> EkfSingleTrackEstimator::StateAt(TimeNs t_ns) const
 
 EstimatorDiagnostics EkfSingleTrackEstimator::diagnostics() const {
   EstimatorDiagnostics d = impl_->diag;
-  if (!impl_->initialized) d.waiting_for = impl_->WaitingFor();
+  if (!impl_->initialized) {
+    d.waiting_for = impl_->local_start ? impl_->local_start->WaitingFor() : impl_->WaitingFor();
+  }
   return d;
 }
 

@@ -24,7 +24,9 @@
 //   Without a steering encoder in the setup: r' = 0 (a random walk the gyro drives) and vy
 //     relaxes to 0 (no side slip) with kinematic_time_constant_s.
 // Updates: IMU gyro z (body) as r + b_g, every sample; speed encoder as vx - r l_y at the
-//   sensor; GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
+//   sensor; body_velocity (odometry) as the measured components of its origin's velocity in its
+//   frame, R_body_sensor^T (vx - r l_y, vy + r l_x, 0), each with its reported variance
+//   (ekf_point_velocity.hpp); GNSS antenna position (x, y) + R(psi) l_xy with the antenna lever arm, moved back
 //   to the fix stamp by the current velocity when it arrives late; GNSS height in the altitude
 //   filter; dual-antenna heading (DualAntennaHeading of a dual_antennas entry) as psi plus the
 //   baseline's yaw in the body frame. Steering angles are inputs (held). Gates: GNSS covariance
@@ -35,12 +37,18 @@
 //   to be below course_max_yaw_sigma_rad, yaw = course of that displacement (flipped when the
 //   encoder speed is negative; its variance the chord's plus init_yaw_sigma_rad^2), vx = encoder
 //   speed (or displacement / time without encoder).
+//   Without a GNSS antenna in the setup: a local frame (ekf_local_start.cpp), started as the
+//   factor graph's (state_initializer.hpp): the IMU at 0 and the body x axis along x (yaw 0),
+//   from a still period (gyro bias) or, moving, from 1 s of odometry (speed encoder,
+//   body_velocity) and the IMU; the body-x component of gravity the start sees becomes the
+//   longitudinal accel bias (the model has no pitch). Its WGS84 output is that frame placed at
+//   latitude, longitude and height 0 and its status `local`.
 // Output: IMU pose from the planar state (roll = pitch = 0), ENU velocity of the IMU, biases in
 //   the IMU frame, and the covariance mapped into the 15x15 ordering of core/state.hpp; the
 //   components the filter does not estimate (roll, pitch, vertical velocity, the other bias
 //   axes) get the fixed sigmas of the options. StateAt serves the last history_s of IMU time.
-// Not used (rejected as kUnsupportedSensor): wheel speeds, lidar, body velocity. Two antennas
-//   without a heading message are used as two position sensors.
+// Not used (rejected as kUnsupportedSensor): wheel speeds, lidar. Two antennas without a heading
+//   message are used as two position sensors.
 #pragma once
 
 #include <memory>
@@ -56,7 +64,7 @@ namespace statebench::est {
 
 class EkfSingleTrackEstimator final : public Estimator {
  public:
-  // Throws InputError if the options are not valid or the setup has no GNSS antenna.
+  // Throws InputError if the options are not valid.
   EkfSingleTrackEstimator(const EstimatorSensorSetup& setup, const EkfOptions& options);
   ~EkfSingleTrackEstimator() override;
   EkfSingleTrackEstimator(const EkfSingleTrackEstimator&) = delete;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "core/eigen_types.hpp"
 #include "core/time.hpp"
@@ -36,6 +37,11 @@ class SingleTrackModel {
   Vec3 p_body_imu_;
   bool has_steering_;
 };
+
+// Rotation of the body frame in the world frame for the planar yaw psi (roll = pitch = 0).
+inline Mat3 YawRotation(double psi) {
+  return Eigen::AngleAxisd(psi, Vec3::UnitZ()).toRotationMatrix();
+}
 
 // The filter at one stamp with the inputs held from it on (the EKF's history for StateAt).
 struct Snapshot {

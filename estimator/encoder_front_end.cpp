@@ -65,15 +65,12 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
   if (!ctx_.initialized && ctx_.initializer.local().enabled) {
     // The velocity of the rear axle's centre, (V, 0, 0) in its frame: lateral and vertical are
     // not measured (the initialiser takes them as zero, loosely).
-    OdometryVelocity o;
-    o.t_ns = v.header.stamp_ns;
-    o.v_frame = Vec3(v.speed_mps, 0.0, 0.0);
-    o.variance =
-        Vec3(options_.kinematic.speed_sigma_mps * options_.kinematic.speed_sigma_mps,
-             BodyVelocityFrontEnd::kUnmeasuredVariance, BodyVelocityFrontEnd::kUnmeasuredVariance);
-    o.p_imu_point = plan_.T_imu_axle.translation();
-    o.q_imu_frame = plan_.T_imu_axle.rotation();
-    ctx_.initializer.AddVelocity(o);
+    const double unmeasured = BodyVelocityFrontEnd::kUnmeasuredVariance;
+    ctx_.initializer.AddVelocity(MakeOdometryVelocity(
+        v.header.stamp_ns, Vec3(v.speed_mps, 0.0, 0.0),
+        Vec3(options_.kinematic.speed_sigma_mps * options_.kinematic.speed_sigma_mps, unmeasured,
+             unmeasured),
+        plan_.T_imu_axle));
   }
   if (encoder_scale_) encoder_scale_->AddSpeed(v.header.stamp_ns, v.speed_mps);
   if (!kinematic_) {

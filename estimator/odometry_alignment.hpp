@@ -21,6 +21,7 @@
 
 #include "core/eigen_types.hpp"
 #include "core/measurements.hpp"
+#include "core/se3.hpp"
 #include "core/time.hpp"
 #include "estimator/imu_noise.hpp"
 
@@ -35,6 +36,18 @@ struct OdometryVelocity {
   Vec3 p_imu_point = Vec3::Zero();  // the odometry frame's mount in the IMU frame
   Quat q_imu_frame = Quat::Identity();
 };
+
+// The sample of an odometry measuring v_frame (variance per component) in the frame at T_imu_frame.
+inline OdometryVelocity MakeOdometryVelocity(TimeNs t_ns, const Vec3& v_frame,
+                                             const Vec3& variance, const SE3& T_imu_frame) {
+  OdometryVelocity o;
+  o.t_ns = t_ns;
+  o.v_frame = v_frame;
+  o.variance = variance;
+  o.p_imu_point = T_imu_frame.translation();
+  o.q_imu_frame = T_imu_frame.rotation();
+  return o;
+}
 
 struct OdometryAlignment {
   TimeNs t_a_ns = 0;               // the window's first odometry stamp

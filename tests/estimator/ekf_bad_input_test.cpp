@@ -137,14 +137,16 @@ TEST(EkfSingleTrackBadInput, NothingBeforeInitialisationAndOnlyBadData) {
   EXPECT_FALSE(ekf.origin().has_value());
 }
 
-TEST(EkfSingleTrackBadInput, InvalidOptionsAndSetupThrow) {
+TEST(EkfSingleTrackBadInput, InvalidOptionsThrowASetupWithoutGnssStartsLocal) {
   EkfOptions options;
   options.vehicle.mass_kg = -1.0;
   EXPECT_THROW(EkfSingleTrackEstimator(testing::MakeDriveSetup(), options), InputError);
+  // Without a GNSS antenna the EKF runs in a local frame (ekf_local_start_test.cpp).
   const EstimatorSensorSetup no_gnss = ParseEstimatorSensorSetup(YamlNode::LoadString(
       "name: x\nsensors:\n  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0]}}\n",
       "no_gnss.yaml"));
-  EXPECT_THROW(EkfSingleTrackEstimator(no_gnss, EkfOptions{}), InputError);
+  const EkfSingleTrackEstimator ekf(no_gnss, EkfOptions{});
+  EXPECT_EQ(ekf.diagnostics().waiting_for, "no IMU sample");
 }
 
 }  // namespace

@@ -6,18 +6,15 @@
 
 #include <string>
 
+#include "core/yaml_node.hpp"
+#include "any_line_contains.hpp"
 #include "ekf_test_drive.hpp"
 #include "estimator/ekf_single_track.hpp"
 
 namespace statebench::est {
 namespace {
 
-bool AnyContains(const std::vector<std::string>& lines, const std::string& text) {
-  for (const std::string& l : lines) {
-    if (l.find(text) != std::string::npos) return true;
-  }
-  return false;
-}
+using testing::AnyContains;
 
 TEST(EkfInputCheck, AFullSetupOfItsOwnVehicleHasNoWarningButTheSensorsItIgnores) {
   const std::vector<std::string> w =
@@ -30,11 +27,42 @@ TEST(EkfInputCheck, NoSpeedNoSteeringIsSaid) {
   const std::vector<std::string> w =
       EkfInputWarnings(testing::MakeMinimalDriveSetup(), SingleTrackParams{});
   EXPECT_TRUE(AnyContains(w, "no speed input"));
+  EXPECT_TRUE(AnyContains(w, "between GNSS fixes only"));
   EXPECT_TRUE(AnyContains(w, "no steering input"));
+  EXPECT_FALSE(AnyContains(w, "no GNSS antenna"));
   // And the estimator reports them in its diagnostics from the start.
   EkfOptions options;
   const EkfSingleTrackEstimator ekf(testing::MakeMinimalDriveSetup(), options);
   EXPECT_EQ(ekf.diagnostics().warnings, w);
+}
+
+TEST(EkfInputCheck, BodyVelocityIsASpeedInput) {
+  // A robot with wheel odometry as body_velocity and no GNSS: no "no speed input", no "not used",
+  // but the local frame is said.
+  const std::vector<std::string> w = EkfInputWarnings(
+      ParseEstimatorSensorSetup(YamlNode::LoadString(
+          "name: robot\nsensors:\n"
+          "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.2]}}\n"
+          "  - {type: body_velocity, id: wheel_odom, T_body_sensor: {translation: [0, 0, 0]}}\n",
+          "robot.yaml")),
+      SingleTrackParams{});
+  EXPECT_FALSE(AnyContains(w, "no speed input"));
+  EXPECT_FALSE(AnyContains(w, "not used by this estimator"));
+  EXPECT_TRUE(AnyContains(w, "no GNSS antenna: a local frame"));
+  EXPECT_TRUE(AnyContains(w, "no steering input"));
+}
+
+TEST(EkfInputCheck, NoGnssNoOdometryDriftsWithoutBound) {
+  const std::vector<std::string> w =
+      EkfInputWarnings(ParseEstimatorSensorSetup(YamlNode::LoadString(
+                           "name: imu_only\nsensors:\n"
+                           "  - {type: imu, id: imu, T_body_sensor: {translation: [0, 0, 0.2]}}\n",
+                           "imu_only.yaml")),
+                       SingleTrackParams{});
+  EXPECT_TRUE(AnyContains(w, "no GNSS antenna"));
+  EXPECT_TRUE(AnyContains(w,
+                          "no speed input (speed_encoder or body_velocity): the speed comes "
+                          "from the IMU's longitudinal acceleration alone"));
 }
 
 TEST(EkfInputCheck, AnotherVehiclesFileIsSuspected) {
