@@ -55,6 +55,8 @@ struct FactorGraphEstimator::Impl {
   LocalEnuFrame local_frame{options.origin.value_or(GeodeticPoint{0.0, 0.0, 0.0})};
   FactorPlan plan;
   FrontEndContext ctx;
+  // The IMU noise measured on the released samples; inflates the context's (the datasheet's).
+  ImuNoiseMonitor noise_monitor{options.imu_noise_estimation, setup.imu_noise.value_or(options.imu_noise)};
   MeasurementIntake intake;
   FrontEndSet front_end_set;  // a new measurement kind is a new front end there
   std::vector<MeasurementFrontEnd*> front_ends;
@@ -175,6 +177,8 @@ struct FactorGraphEstimator::Impl {
   }
 
   void ProcessImu(const ImuSample& s) {
+    if (noise_monitor.Add(s)) ctx.SetImuNoise(noise_monitor.used());
+    ctx.diag.imu_noise = noise_monitor.report();
     ctx.smoother.AddImu(s);
     lagged_ns = s.header.stamp_ns;
     last_released_imu = s;

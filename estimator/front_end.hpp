@@ -76,6 +76,16 @@ class FrontEndContext {
     std::construct_at(&smoother, smoother_options_);
   }
 
+  // The IMU noise the smoother and the output use from now on, and after a restart (the
+  // measured one, imu_noise_monitor.hpp).
+  void SetImuNoise(const ImuNoise& noise) {
+    smoother.SetImuNoise(noise);
+    output.SetNoise(noise);
+    smoother_options_.imu_noise = noise;
+    noise_ = noise;
+  }
+  const ImuNoise& imu_noise() const { return noise_; }
+
   // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window
   // (mean from the states around t, covariance of the newest state); nullopt if not held.
   std::optional<PropagatedState> PredictAt(TimeNs t_ns) const {

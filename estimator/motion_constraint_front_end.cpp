@@ -10,8 +10,13 @@ MotionConstraintFrontEnd::MotionConstraintFrontEnd(const EstimatorSensorSetup& s
                                                    const FactorPlan& plan,
                                                    const FactorGraphOptions& options,
                                                    const EncoderFrontEnd& encoders,
-                                                   FrontEndContext& ctx)
-    : imu_id_(setup.imu_id), plan_(plan), options_(options), encoders_(encoders), ctx_(ctx) {}
+                                                   const GnssFrontEnd& gnss, FrontEndContext& ctx)
+    : imu_id_(setup.imu_id),
+      plan_(plan),
+      options_(options),
+      encoders_(encoders),
+      gnss_(gnss),
+      ctx_(ctx) {}
 
 void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
   recent_imu_.push_back(s);
@@ -55,15 +60,15 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   }
 }
 
-// The IMU is quiet over the window and the speed encoder reads zero over it (or, without one,
-// the estimated speed is low).
+// The IMU is quiet over the window and the speed encoder reads zero over it (without one, the
+// Doppler velocity's mean is near zero, or without that the estimated speed is low).
 bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3 ||
       t_ns - recent_imu_.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
     return false;
   }
-  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_);
+  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
   if (!window.Quiet(z)) return false;
   const Vec3& mean_a = window.mean_accel;
   if (encoders_.has_speed_encoder()) {
@@ -73,7 +78,13 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
            encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
   }
   const auto predicted = ctx_.PredictAt(t_ns);
-  if (!predicted || predicted->state.v_world.norm() >= z.max_estimated_speed_mps) return false;
+  if (!predicted) return false;
+  const std::optional<Vec2> doppler =
+      gnss_.MeanDopplerVelocity(t_ns - FromSeconds(z.doppler_window_s), t_ns);
+  if (doppler ? !(doppler->norm() < z.max_doppler_speed_mps)
+              : predicted->state.v_world.norm() >= z.max_estimated_speed_mps) {
+    return false;
+  }
   const NavState& x = predicted->state;
   const Vec3 acceleration = x.q_world_imu * (mean_a - x.accel_bias) + kGravityWorld;
   return acceleration.norm() < z.max_acceleration_mps2;

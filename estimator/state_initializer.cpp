@@ -6,6 +6,7 @@
 
 #include "core/so3.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "estimator/imu_window_statistics.hpp"
 
 namespace statebench::est {
 namespace {
@@ -88,8 +89,22 @@ void StateInitializer::UpdateStill() {
                        [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
   const std::span<const ImuSample> window(first, imu_.end());
   if (window.size() < 2) return;
-  const Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
-  const Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
+  Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  // An engine running: the window is still when its low band is quiet to half the thresholds
+  // (the stds tested and reported are then the low band's over that share; else the raw ones).
+  if (options_.static_lowpass_s > 0.0 &&
+      (gyro.std.maxCoeff() > options_.static_max_gyro_std_radps ||
+       accel.std.maxCoeff() > options_.static_max_accel_std_mps2)) {
+    const ImuBands bands = SplitImuBands(window, options_.static_lowpass_s);
+    const Vec3 low_gyro = bands.gyro.lowpass_std / kLowBandThresholdShare;
+    const Vec3 low_accel = bands.accel.lowpass_std / kLowBandThresholdShare;
+    if (bands.valid() && !(low_gyro.maxCoeff() > options_.static_max_gyro_std_radps) &&
+        !(low_accel.maxCoeff() > options_.static_max_accel_std_mps2)) {
+      gyro.std = low_gyro;
+      accel.std = low_accel;
+    }
+  }
   const double gravity_error = std::abs(accel.mean.norm() - kGravity);
   const double score = std::max({gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
                                  accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
