@@ -40,7 +40,8 @@ struct FactorGraphEstimator::Impl {
         options(o),
         plan(PlanFactors(setup, o)),
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
-            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup)),
+            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup),
+            o.imu_noise_estimation),
         intake(setup, FromSeconds(o.ReorderLatency(setup)), o.imu_limits),
         front_end_set(MakeFrontEnds(setup, plan, options, ctx, lidar_pool)) {
     for (const auto& f : front_end_set.all) front_ends.push_back(f.get());
@@ -55,8 +56,6 @@ struct FactorGraphEstimator::Impl {
   LocalEnuFrame local_frame{options.origin.value_or(GeodeticPoint{0.0, 0.0, 0.0})};
   FactorPlan plan;
   FrontEndContext ctx;
-  // The IMU noise measured on the released samples; inflates the context's (the datasheet's).
-  ImuNoiseMonitor noise_monitor{options.imu_noise_estimation, setup.imu_noise.value_or(options.imu_noise)};
   MeasurementIntake intake;
   FrontEndSet front_end_set;  // a new measurement kind is a new front end there
   std::vector<MeasurementFrontEnd*> front_ends;
@@ -177,8 +176,6 @@ struct FactorGraphEstimator::Impl {
   }
 
   void ProcessImu(const ImuSample& s) {
-    if (noise_monitor.Add(s)) ctx.SetImuNoise(noise_monitor.used());
-    ctx.diag.imu_noise = noise_monitor.report();
     ctx.smoother.AddImu(s);
     lagged_ns = s.header.stamp_ns;
     last_released_imu = s;

@@ -37,13 +37,20 @@ ImuNoiseMonitor::ImuNoiseMonitor(const ImuNoiseEstimationOptions& options,
       configured.accel_noise_density;
 }
 
-bool ImuNoiseMonitor::Add(const ImuSample& sample) {
+bool ImuNoiseMonitor::AddStill(const ImuSample& sample) {
   if (!options_.enabled) return false;
-  // A gap breaks the block: the filter assumes a constant rate.
-  if (!block_.empty() &&
-      sample.header.stamp_ns - block_.back().header.stamp_ns > FromSeconds(0.1)) {
-    block_.clear();
+  const TimeNs t = sample.header.stamp_ns;
+  if (last_ns_) {
+    if (t <= *last_ns_) return false;  // taken with an earlier still window
+    // A gap (the vehicle moved, or samples are missing) breaks the block: the means assume a
+    // constant rate and a still vehicle throughout.
+    if (period_ns_ > 0 && t - *last_ns_ > 2 * period_ns_) {
+      block_.clear();
+    } else {
+      period_ns_ = t - *last_ns_;
+    }
   }
+  last_ns_ = t;
   block_.push_back(sample);
   if (sample.header.stamp_ns - block_.front().header.stamp_ns < FromSeconds(options_.block_s)) {
     return false;

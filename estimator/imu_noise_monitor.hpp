@@ -2,7 +2,15 @@
 // datasheet: a consumer IMU on a car with its engine running reads 0.01-0.04 rad/s and
 // 0.1-0.4 m/s^2 of vibration per sample, 10-20x what its datasheet density gives at 100 Hz.
 //
-// Every block_s of released samples, each signal's means over consecutive spans of scale_s
+// Only samples of a still vehicle are measured (the motion constraints' standstill test passed
+// over them: imu_window_statistics.hpp, with an engine running on the low band): the vehicle's
+// own motion is then zero and everything the IMU reads beyond gravity and its bias is its noise
+// and vibration. While the vehicle moves, the same measurement reads the motion as noise (a car's
+// yaw-rate changes over 0.1 s alone read ~4e-4 rad/s/sqrt(Hz), 20x an industrial gyro's
+// density), so road vibration that grows with speed is not measured: what the stops measured is
+// used throughout.
+//
+// Every block_s of contiguous still samples, each signal's means over consecutive spans of scale_s
 // (0.1 s: the default keyframe interval, one preintegration) give its Hadamard variance
 // H = (1/6) E[(m[k+1] - 2 m[k] + m[k-1])^2] per axis; for white noise H = density^2 / scale_s,
 // so the block's density is sqrt(mean over the axes of H x scale_s) (the mean over the axes
@@ -51,8 +59,10 @@ class ImuNoiseMonitor {
  public:
   ImuNoiseMonitor(const ImuNoiseEstimationOptions& options, const ImuNoise& configured);
 
-  // Adds a released sample (stamps increasing). True when a block closed and used() changed.
-  bool Add(const ImuSample& sample);
+  // Adds a released sample of a still vehicle. Samples not newer than the last one taken are
+  // skipped (still windows overlap); a gap of more than two sample periods starts a new block.
+  // True when a block closed and used() changed.
+  bool AddStill(const ImuSample& sample);
 
   const ImuNoise& used() const { return used_; }
   const ImuNoiseReport& report() const { return report_; }
@@ -66,6 +76,8 @@ class ImuNoiseMonitor {
   ImuNoise used_;
   ImuNoiseReport report_;
   std::vector<ImuSample> block_;
+  std::optional<TimeNs> last_ns_;  // the newest sample taken
+  TimeNs period_ns_ = 0;           // between the two newest samples taken
   std::optional<double> gyro_variance_density_;   // running mean of density^2
   std::optional<double> accel_variance_density_;
 };

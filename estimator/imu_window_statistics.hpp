@@ -25,6 +25,8 @@ inline constexpr double kLowBandThresholdShare = 0.5;
 // rate), with a low-pass of lowpass_s; not valid when the window is too short for it.
 struct ImuBands {
   ImuBand gyro, accel;
+  int taps = 1;  // the moving averages' length: the low band sees the window's taps - 1 newest
+                 // (and oldest) samples only faintly
   bool valid() const { return gyro.valid && accel.valid; }
 };
 
@@ -43,6 +45,7 @@ ImuBands SplitImuBands(const Samples& samples, double lowpass_s) {
     accel.push_back(s.accel);
   }
   const int taps = LowPassTaps(lowpass_s, dt);
+  b.taps = taps;
   b.gyro = SplitImuBand(gyro, taps);
   b.accel = SplitImuBand(accel, taps);
   return b;

@@ -30,6 +30,7 @@ void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (z.enabled && t >= next_zupt_ns_ && StandingStill(t)) {
     next_zupt_ns_ = t + FromSeconds(1.0 / z.rate_hz);
+    ctx_.MeasureStillImu(recent_imu_);
     BodyVelocityMeasurement m;
     const double sigma =
         encoders_.has_speed_encoder() ? z.sigma_mps : z.sigma_without_encoder_mps;

@@ -81,13 +81,13 @@ void StateInitializer::AddHeading(const DualAntennaHeading& heading, const Vec3&
 }
 
 void StateInitializer::UpdateStill() {
-  const TimeNs t_end = imu_.back().header.stamp_ns;
+  TimeNs t_end = imu_.back().header.stamp_ns;
   const TimeNs t_begin = t_end - FromSeconds(options_.static_duration_s);
   if (imu_.front().header.stamp_ns > t_begin) return;  // not enough data yet
   const auto first =
       std::lower_bound(imu_.begin(), imu_.end(), t_begin,
                        [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
-  const std::span<const ImuSample> window(first, imu_.end());
+  std::span<const ImuSample> window(first, imu_.end());
   if (window.size() < 2) return;
   Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
   Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
@@ -101,6 +101,14 @@ void StateInitializer::UpdateStill() {
     const Vec3 low_accel = bands.accel.lowpass_std / kLowBandThresholdShare;
     if (bands.valid() && !(low_gyro.maxCoeff() > options_.static_max_gyro_std_radps) &&
         !(low_accel.maxCoeff() > options_.static_max_accel_std_mps2)) {
+      // The low band sees the window's newest (and oldest) taps - 1 samples only faintly: a
+      // start of motion there would pass it. The still period is the samples it centres on, and
+      // its means theirs.
+      const std::size_t edge = static_cast<std::size_t>(bands.taps - 1);
+      window = window.subspan(edge, window.size() - 2 * edge);
+      t_end = window.back().header.stamp_ns;
+      gyro.mean = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; }).mean;
+      accel.mean = ComputeMoments(window, [](const ImuSample& s) { return s.accel; }).mean;
       gyro.std = low_gyro;
       accel.std = low_accel;
     }

@@ -34,7 +34,7 @@ ImuNoiseMonitor Feed(const ImuNoiseEstimationOptions& options, const ImuNoise& c
     s.gyro = white.gyro_noise_density / std::sqrt(kMonitorDt) * r3();
     s.accel = Vec3(0.0, 0.0, kGravity) + white.accel_noise_density / std::sqrt(kMonitorDt) * r3();
     if (tone) idle.Add(k * kMonitorDt, &s);
-    monitor.Add(s);
+    monitor.AddStill(s);
   }
   return monitor;
 }
