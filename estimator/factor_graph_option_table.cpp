@@ -219,6 +219,8 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
               "without an encoder: their mean's horizontal speed below")
       .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
               "without an encoder or Doppler: estimated speed below")
+      .Number("estimated_speed_sigmas", &Z::estimated_speed_sigmas, Range::NonNegative(),
+              "plus this many of its sigmas (a GNSS outage's drifted speed)")
       .Number("max_acceleration_mps2", &Z::max_acceleration_mps2, p,
               "without an encoder: measured acceleration below")
       .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor")

@@ -120,7 +120,10 @@ struct ZeroVelocityOptions {
   // 0.07 m/s per axis gives 4 readings a second, their mean 0.035 m/s.
   double doppler_window_s = 1.0;
   double max_doppler_speed_mps = 0.2;
+  // Without an encoder or Doppler: the estimated speed below max_estimated_speed_mps plus this
+  // many of its sigmas (0: below max_estimated_speed_mps only).
   double max_estimated_speed_mps = 0.3;
+  double estimated_speed_sigmas = 3.0;
   double max_acceleration_mps2 = 0.3;
   double sigma_mps = 0.005;
   // Without an encoder the test cannot rule out a creep below max_estimated_speed_mps: the
