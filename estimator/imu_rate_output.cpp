@@ -29,6 +29,30 @@ void ImuRateOutput::SetAnchor(const PropagatedState& anchor) {
   anchor_ = anchor;
   anchors_.push_back(anchor);
   running_ = Preintegrate(anchor.state, imu_.back().header.stamp_ns);
+  cursor_.reset();
+}
+
+bool ImuRateOutput::IsSampleStamp(TimeNs t_ns) const {
+  const auto it = std::lower_bound(
+      imu_.begin(), imu_.end(), t_ns,
+      [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
+  return it != imu_.end() && it->header.stamp_ns == t_ns;
+}
+
+const ImuPreintegration& ImuRateOutput::FromAnchorTo(TimeNs t_ns) const {
+  const NavState& anchor = anchor_->state;
+  // Extending is the same arithmetic as integrating from the anchor only from a node that
+  // FromSamples also makes: a sample stamp, or the anchor itself.
+  const bool extendable = cursor_ && cursor_->end_ns() <= t_ns && IsSampleStamp(t_ns) &&
+                          (cursor_->end_ns() == anchor.t_ns || IsSampleStamp(cursor_->end_ns()));
+  if (!extendable) {
+    cursor_ = Preintegrate(anchor, t_ns);
+    return *cursor_;
+  }
+  auto it = std::upper_bound(imu_.begin(), imu_.end(), cursor_->end_ns(),
+                             [](TimeNs t, const ImuSample& s) { return t < s.header.stamp_ns; });
+  for (; it != imu_.end() && it->header.stamp_ns <= t_ns; ++it) cursor_->Integrate(*it);
+  return *cursor_;
 }
 
 NavState ImuRateOutput::Carry(const NavState& from, TimeNs t_ns) const {
@@ -40,7 +64,7 @@ std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
     return std::nullopt;
   }
   if (t_ns == running_->end_ns()) return Propagate(anchor_->state, anchor_->covariance, *running_);
-  return Propagate(anchor_->state, anchor_->covariance, Preintegrate(anchor_->state, t_ns));
+  return Propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns));
 }
 
 std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,

@@ -2,7 +2,11 @@
 // anchor) and its covariance carried through the buffered raw IMU samples (imu_propagation.hpp).
 //
 // For the newest sample a running preintegration from the anchor is extended sample by sample,
-// so the 100 Hz output costs one 15x15 propagation per sample. For stamps inside the smoother's
+// so the 100 Hz output costs one 15x15 propagation per sample. Stamps between the anchor and the
+// newest sample (the front ends' predictions at released measurements, in increasing order) are
+// served by a second preintegration from the anchor, the cursor, extended sample by sample as
+// the running one is: the same integration steps as ImuPreintegration::FromSamples from the
+// anchor, so the same bits, without integrating from the anchor again for every stamp. For stamps inside the smoother's
 // window the caller passes the smoothed states: the mean is the latest smoothed state at or
 // before the stamp carried to it; the covariance is that of the latest earlier anchor carried to
 // the stamp (a filtered covariance: an upper bound of the smoothed one).
@@ -50,11 +54,17 @@ class ImuRateOutput {
 
  private:
   ImuPreintegration Preintegrate(const NavState& from, TimeNs t_ns) const;
+  // The preintegration from the anchor to t_ns, through the cursor when t_ns is a sample stamp.
+  const ImuPreintegration& FromAnchorTo(TimeNs t_ns) const;
+  bool IsSampleStamp(TimeNs t_ns) const;
 
   ImuNoise noise_;
   std::vector<ImuSample> imu_;                // contiguous for ImuPreintegration::FromSamples
   std::optional<PropagatedState> anchor_;     // newest state of the last update
   std::optional<ImuPreintegration> running_;  // anchor -> newest sample
+  // anchor -> a sample stamp (or the anchor itself); reset by SetAnchor. The estimator's
+  // queries are const: this cache is the only state they change.
+  mutable std::optional<ImuPreintegration> cursor_;
   std::deque<PropagatedState> anchors_;       // earlier anchors, for stamps inside the window
 };
 
