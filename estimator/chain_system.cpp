@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace statebench::est {
@@ -76,7 +77,7 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
 
   Eigen::Map<ChainJacobian> J(s.J_buffer.data(), m, 30);
   J.setZero();
-  int lo = 30, hi = 0;
+  std::array<bool, 30> touched{};  // columns the factor's blocks fill (the rest stay zero)
   for (std::size_t b = 0; b < sizes.size(); ++b) {
     const int slot = ChainSlot(anchor, next, f.blocks[b]);
     if (slot < 0) return false;
@@ -90,8 +91,7 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     } else {
       J.middleCols(offset, size) += ambient;
     }
-    lo = std::min(lo, offset);
-    hi = std::max(hi, offset + size);
+    std::fill_n(touched.begin() + offset, size, true);
   }
   const double sq_norm = r.squaredNorm();
   if (f.loss == nullptr) {
@@ -108,9 +108,19 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     J *= c.sqrt_rho1;
     r *= c.residual_scaling;
   }
-  // Column dot products over the columns the factor touches (contiguous, vectorised).
-  for (int j = lo; j < hi; ++j) {
-    for (int i = j; i < hi; ++i) H(i, j) += J.col(i).dot(J.col(j));
+  // Column dot products over the columns the factor touches (contiguous, vectorised). A column
+  // it does not touch is zero: its products would add +-0 to H and g, which changes nothing.
+  std::array<int, 30> columns{};
+  int count = 0;
+  for (int c = 0; c < 30; ++c) {
+    if (touched[c]) columns[count++] = c;
+  }
+  for (int a = 0; a < count; ++a) {
+    const int j = columns[a];
+    for (int b = a; b < count; ++b) {
+      const int i = columns[b];
+      H(i, j) += J.col(i).dot(J.col(j));
+    }
     g(j) += J.col(j).dot(r);
   }
   return true;
