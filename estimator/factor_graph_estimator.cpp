@@ -286,13 +286,20 @@ struct FactorGraphEstimator::Impl {
   std::optional<StateEstimate> BatchStateAt(TimeNs t_ns) const {
     if (!ended) return std::nullopt;
     const std::optional<BatchOutput::At> at = batch.StateAt(t_ns);
-    const std::optional<LocalEnuFrame>& enu = front_end_set.gnss->frame();
     if (!at) return std::nullopt;
-    const bool local = position_sensors.empty() || at->local_frame;
-    const LocalEnuFrame* frame = local ? &local_frame : (enu ? &*enu : nullptr);
-    if (frame == nullptr) return std::nullopt;
     PropagatedState p = at->state;
     p.covariance += CalibrationConsider(p.state);
+    return Present(p, at->local_frame, t_ns);
+  }
+
+  // p as the estimate at t_ns: in the local frame (no position sensor, or a state of a local
+  // start) or in ENU once the GNSS front end has its frame (else nullopt), with its status.
+  std::optional<StateEstimate> Present(const PropagatedState& p, bool local_state,
+                                       TimeNs t_ns) const {
+    const std::optional<LocalEnuFrame>& enu = front_end_set.gnss->frame();
+    const bool local = position_sensors.empty() || local_state;
+    const LocalEnuFrame* frame = local ? &local_frame : (enu ? &*enu : nullptr);
+    if (frame == nullptr) return std::nullopt;
     std::optional<StateEstimate> out = ToStateEstimate(p, *frame);
     if (out) out->status = StatusAt(ctx.diag, position_sensors, t_ns);
     return out;
@@ -354,17 +361,12 @@ void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(meas
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
   if (impl_->options.batch) return impl_->BatchStateAt(t_ns);
   std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
-  const std::optional<LocalEnuFrame>& enu = impl_->front_end_set.gnss->frame();
-  const bool local = impl_->position_sensors.empty() || impl_->ctx.local_frame;
-  const LocalEnuFrame* frame = local ? &impl_->local_frame : (enu ? &*enu : nullptr);
-  if (!p || frame == nullptr) return std::nullopt;
+  if (!p) return std::nullopt;
   // The calibration share at the best estimate; the blend's offset on top (output_blend.hpp).
   const Mat15 consider = impl_->CalibrationConsider(p->state);
   *p = impl_->blend.Apply(*p);
   p->covariance += consider;
-  std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
-  if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
-  return out;
+  return impl_->Present(*p, impl_->ctx.local_frame, t_ns);
 }
 
 EstimatorDiagnostics FactorGraphEstimator::diagnostics() const {
