@@ -13,6 +13,7 @@
 #include "apps/progress_bar.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "core/error.hpp"
+#include "sensors/lidar_sensor_model.hpp"
 #include "sensors/log_format.hpp"
 #include "sensors/log_writer.hpp"
 #include "simulator/scenario.hpp"
@@ -23,15 +24,17 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: statebench record SCENARIO.yaml --out LOG [--seed N] [--duration S]\n"
-    "                         [--lidar-format sweep|pcd] [--quiet]\n"
+    "                         [--lidar-format packets|sweep|pcd] [--quiet]\n"
     "  Simulates the scenario's truth and every sensor of its setup (`sensors:` in the scenario,\n"
     "  with its `faults:`) and writes a recorded log directory (docs/log-format.md): IMU, GNSS,\n"
     "  encoder CSVs, one file per lidar sweep, setup.yaml, truth.csv + TUM, log.yaml.\n"
     "  --seed N      scenario seed (traffic, world, sensor errors)\n"
     "  --duration S  simulated seconds (default: the scenario's)\n"
-    "  --lidar-format pcd|sweep  pcd (default): binary PCDs, fastest to read, open in PCL\n"
-    "                tools; sweep: compressed StateBench sweep files, lossless, about 4x smaller\n"
-    "                and about 4x slower to read\n";
+    "  --lidar-format packets|sweep|pcd  packets (default): what the lidar's packets carry\n"
+    "                (beam model, a range and an intensity byte per return), about 4x smaller\n"
+    "                than PCDs and faster to read; sweep: compressed StateBench sweep files,\n"
+    "                about 5x smaller, 5x slower to read; pcd: binary PCDs, for PCL tools.\n"
+    "                All three lossless\n";
 
 // GNSS fix counts by status, for the summary ("rtk_fixed 2391, rtk_float 9").
 std::string StatusCounts(const std::map<GnssFixStatus, std::size_t>& counts) {
@@ -55,11 +58,11 @@ int RunRecord(const std::vector<std::string>& argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   try {
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
-    sensors::LidarFileFormat lidar_format = sensors::LidarFileFormat::kPcd;
+    sensors::LidarFileFormat lidar_format = sensors::LidarFileFormat::kPackets;
     if (const auto name = args->Option("lidar-format")) {
       const auto parsed_format = sensors::ParseLidarFileFormat(*name);
       if (!parsed_format) {
-        throw InputError("--lidar-format: '" + *name + "' is not sweep or pcd");
+        throw InputError("--lidar-format: '" + *name + "' is not packets, sweep or pcd");
       }
       lidar_format = *parsed_format;
     }
@@ -80,6 +83,13 @@ int RunRecord(const std::vector<std::string>& argv) {
     options.setup_yaml = run.sensors().setup_yaml;
     options.truth_T_body_imu = run.T_body_imu();
     options.lidar_format = lidar_format;
+    for (const sensors::SensorConfig* lidar :
+         run.sensors().setup.OfType(sensors::SensorType::kLidar)) {
+      options.lidar_beams[lidar->spec.id] =
+          sensors::LidarParamsFromSetup(lidar->spec, std::get<sensors::LidarOptions>(lidar->options),
+                                        lidar->where)
+              .beams;
+    }
     sensors::LogWriter writer(out_dir, options);
 
     ProgressBar bar("record " + scenario.name);

@@ -38,11 +38,13 @@ if [ ! -d "$seeds" ]; then
   [ -x "$statebench" ] || { echo "fuzz: $statebench is needed to record the seed log (bash scripts/setup.sh)" >&2; exit 1; }
   log=$(mktemp -d)
   trap 'rm -rf "$log"' EXIT
-  # Two logs: lidar sweeps as sweep files (the default) and as PCDs.
+  # Three logs: lidar sweeps as packets files (the default), sweep files and PCDs.
   "$statebench" record scenarios/paper/setup3_shuttle.yaml --duration 0.3 --out "$log/log" >/dev/null 2>&1
-  "$statebench" record scenarios/paper/setup3_shuttle.yaml --duration 0.3 --out "$log/log_pcd" \
-    --lidar-format pcd >/dev/null 2>&1
-  python3 tests/fuzz/make_seeds.py "$PWD" "$log/log" "$seeds" "$log/log_pcd"
+  for format in sweep pcd; do
+    "$statebench" record scenarios/paper/setup3_shuttle.yaml --duration 0.3 --out "$log/log_$format" \
+      --lidar-format "$format" >/dev/null 2>&1
+  done
+  python3 tests/fuzz/make_seeds.py "$PWD" "$log/log" "$seeds" "$log/log_sweep" "$log/log_pcd"
 fi
 
 # One target per core at a time.

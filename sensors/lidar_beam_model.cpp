@@ -35,6 +35,15 @@ Vec3 LidarBeamModel::Direction(int column, int ring) const {
   return Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
 }
 
+std::vector<Vec3> LidarBeamModel::Directions() const {
+  std::vector<Vec3> out;
+  out.reserve(static_cast<std::size_t>(columns) * elevations_rad.size());
+  for (int c = 0; c < columns; ++c) {
+    for (int r = 0; r < channels(); ++r) out.push_back(Direction(c, r));
+  }
+  return out;
+}
+
 LidarBeamModel HesaiXt32BeamModel() { return Uniform("hesai_xt32", 32, -16.0, 1.0, 2000); }
 
 LidarBeamModel VelodyneVlp16BeamModel() { return Uniform("velodyne_vlp16", 16, -15.0, 2.0, 1800); }

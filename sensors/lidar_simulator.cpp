@@ -22,10 +22,10 @@ constexpr double kReferenceReflectivity = 0.1;  // range_at_10pct_m refers to a 
 LidarSimulator::LidarSimulator(const LidarWorld& world, LidarModelParams params, std::uint64_t seed)
     : world_(world), params_(std::move(params)), seed_(seed) {
   const LidarBeamModel& beams = params_.beams;
-  directions_lidar_.reserve(static_cast<std::size_t>(beams.columns) * beams.channels());
+  directions_lidar_ = beams.Directions();
+  const auto channels = static_cast<std::size_t>(beams.channels());
   for (int c = 0; c < beams.columns; ++c) {
-    for (int r = 0; r < beams.channels(); ++r) directions_lidar_.push_back(beams.Direction(c, r));
-    column_fans_.push_back(FanOf(std::span(directions_lidar_).last(beams.channels())));
+    column_fans_.push_back(FanOf(std::span(directions_lidar_).subspan(c * channels, channels)));
   }
 }
 
@@ -99,7 +99,7 @@ void LidarSimulator::SimulateBlock(const Sweep& sweep, const TrafficWindow& traf
     for (int c = c0; c < c0 + group; ++c) {
       const SE3& T = sweep.T_world_column[c];
       const Vec3& origin = T.translation();
-      const float t_rel = static_cast<float>(ToSeconds(sweep.t_column[c] - sweep.t_start_ns));
+      const float t_rel = params_.beams.ColumnTimeS(c);  // = t_column[c] - t_start, as float
       traffic.PoseFor(column_fans_[static_cast<std::size_t>(c)].Rotated(T.rotation()), origin,
                       max_range, sweep.t_column[c], &vehicles);
       for (int ring = 0; ring < channels; ++ring) {
@@ -127,15 +127,10 @@ void LidarSimulator::SimulateBlock(const Sweep& sweep, const TrafficWindow& traf
         const double u = Uniform01(rng);
         const double noise = params_.range_noise_sigma_m * normal(rng);
         if (u < params_.dropout_probability) continue;
-        const Vec3 p = (hit->range_m + noise) * d_lidar;
-        LidarPoint point;
-        point.x = static_cast<float>(p.x());
-        point.y = static_cast<float>(p.y());
-        point.z = static_cast<float>(p.z());
-        point.intensity = static_cast<float>(100.0 * rho * cos_incidence);
-        point.t = t_rel;
-        point.ring = static_cast<std::uint16_t>(ring);
-        out->push_back(point);
+        // Intensity in whole units, as a packet's reflectivity byte carries it.
+        const auto intensity = static_cast<float>(std::round(100.0 * rho * cos_incidence));
+        out->push_back(BeamReturn(d_lidar, hit->range_m + noise, intensity, t_rel,
+                                  static_cast<std::uint16_t>(ring)));
       }
     }
   }

@@ -8,7 +8,8 @@
 // Ranges are exact (double-precision intersections with the world's triangles and the traffic
 // boxes at the firing time) before the error model: a return is dropped if the hit is outside
 // [min_range, max_range], beyond the reflectivity-limited range, or by the dropout probability;
-// the kept range gets Gaussian noise along the beam. Intensity = 100 * reflectivity *
+// the kept range gets Gaussian noise along the beam (the point is BeamReturn of that range, the
+// code a lidar packets file rebuilds it with). Intensity = 100 * reflectivity *
 // cos(incidence) (a calibrated-reflectivity style value in [0, 100]).
 //
 // Static hits are cast in packets (LidarWorld::CastStaticPacket: one channel of up to

@@ -4,11 +4,11 @@
 
 #include <array>
 #include <cstring>
-#include <fstream>
 #include <memory>
 #include <string>
 
 #include "core/error.hpp"
+#include "sensors/file_bytes.hpp"
 #include "sensors/lidar_sweep_codec.hpp"
 
 namespace statebench::sensors {
@@ -29,15 +29,7 @@ constexpr int kCompressionLevel = 3;  // zstd's default: 0.18 of a binary PCD, ~
   FailSweepFile(file, "field '" + std::string(SweepFieldName(static_cast<SweepField>(f))) + "': " + what);
 }
 
-void Put32(std::uint8_t* out, std::uint32_t v) {
-  for (int b = 0; b < 4; ++b) out[b] = static_cast<std::uint8_t>(v >> (8 * b));
-}
-
-std::uint32_t Get32(const std::uint8_t* in) {
-  std::uint32_t v = 0;
-  for (int b = 0; b < 4; ++b) v |= std::uint32_t{in[b]} << (8 * b);
-  return v;
-}
+std::uint32_t Get32(const std::uint8_t* in) { return GetLittleEndian<std::uint32_t>(in); }
 
 // zstd contexts and buffers, one set per thread, reused from sweep to sweep.
 struct CompressionContext {
@@ -57,18 +49,6 @@ struct DecompressionContext {
   SweepPlanes planes;
   std::vector<std::uint8_t> bytes;
 };
-
-// The whole file into `bytes` (one read).
-void ReadFile(const fs::path& file, std::vector<std::uint8_t>& bytes) {
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) FailSweepFile(file, "cannot open");
-  const std::streamoff size = in.tellg();
-  if (size < 0) FailSweepFile(file, "cannot read its size");
-  bytes.resize(static_cast<std::size_t>(size));
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), size);
-  if (in.gcount() != size) FailSweepFile(file, "cannot read its " + std::to_string(size) + " bytes");
-}
 
 // Decompresses field f's frame, bytes [begin, begin + size) of the file, into its planes.
 void DecompressField(const fs::path& file, std::size_t f, const std::uint8_t* frame,
@@ -114,24 +94,22 @@ void WriteLidarSweepFile(const fs::path& file, const std::vector<LidarPoint>& po
   z.bytes.resize(bound);
   std::uint8_t* out = z.bytes.data();
   std::memcpy(out, kMagic, sizeof(kMagic));
-  Put32(out + 8, kVersion);
-  Put32(out + 12, static_cast<std::uint32_t>(points.size()));
+  PutLittleEndian(out + 8, kVersion);
+  PutLittleEndian(out + 12, static_cast<std::uint32_t>(points.size()));
   std::size_t at = kHeaderBytes;
   for (std::size_t f = 0; f < kSweepFieldCount; ++f) {
     const std::size_t size = ZSTD_compress2(z.context.get(), out + at, bound - at,
                                             z.planes[f].data(), z.planes[f].size());
     if (ZSTD_isError(size)) FailField(file, f, std::string("zstd: ") + ZSTD_getErrorName(size));
-    Put32(out + 16 + 4 * f, static_cast<std::uint32_t>(size));
+    PutLittleEndian(out + 16 + 4 * f, static_cast<std::uint32_t>(size));
     at += size;
   }
-  std::ofstream stream(file, std::ios::binary | std::ios::trunc);
-  stream.write(reinterpret_cast<const char*>(out), static_cast<std::streamsize>(at));
-  if (!stream) FailSweepFile(file, "cannot write");
+  WriteFileBytes(file, out, at);
 }
 
 std::vector<LidarPoint> ReadLidarSweepFile(const fs::path& file) {
   thread_local DecompressionContext z;
-  ReadFile(file, z.bytes);
+  ReadFileBytes(file, z.bytes);
   const std::uint8_t* in = z.bytes.data();
   const std::size_t size = z.bytes.size();
   if (size < kHeaderBytes) {

@@ -139,12 +139,13 @@ void LogWriter::Write(const Measurement& m) {
 }
 
 void LogWriter::WriteLidar(Stream& s, const LidarScan& scan) {
-  const std::string name = std::to_string(scan.header.stamp_ns) +
-                           std::string(LidarFileExtension(options_.lidar_format));
   static const std::vector<LidarPoint> kNone;
   const std::vector<LidarPoint>& points = scan.points ? *scan.points : kNone;
-  WriteLidarFile(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id / name, points,
-                 options_.lidar_format);
+  const auto beams = options_.lidar_beams.find(s.entry.id);
+  const std::string name =
+      WriteLidarFile(dir_ / LogStreamFolder(LogStreamType::kLidar) / s.entry.id,
+                     std::to_string(scan.header.stamp_ns), points, options_.lidar_format,
+                     beams == options_.lidar_beams.end() ? nullptr : &beams->second);
   AppendLidarIndexRow(s.buffer, scan, name);
   s.lidar_points += points.size();
 }

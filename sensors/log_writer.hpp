@@ -1,7 +1,8 @@
 // Writes a recorded log directory (docs/log-format.md) from a measurement stream: per sensor a
 // CSV file in the folder of its type (imu/, gnss/, heading/, wheels/, speed/, steering/,
 // body_velocity/), per lidar a sweep index lidar/<id>.csv plus one file per sweep in
-// lidar/<id>/<stamp_ns>.sweep (or .pcd, LogWriterOptions::lidar_format), the sensor setup as setup.yaml, optionally the truth (truth.csv,
+// lidar/<id>/<stamp_ns>.packets (or .sweep or .pcd: LogWriterOptions::lidar_format, WriteLidarFile),
+// the sensor setup as setup.yaml, optionally the truth (truth.csv,
 // truth_body.tum, truth_imu.tum via core/truth_io.hpp), and the manifest log.yaml last.
 //
 // Numbers are written in shortest round-trip form and lidar points as raw floats, so LogReader
@@ -37,6 +38,9 @@ struct LogWriterOptions {
   std::string setup_yaml;               // copied to setup.yaml when not empty
   std::optional<SE3> truth_T_body_imu;  // when set, WriteTruth writes the truth files
   LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // the files of the lidar sweeps
+  // Beam models of the lidars, by sensor id: the packets format needs the sweep's (without one,
+  // a sweep is written as a sweep file; lidar_file.hpp).
+  std::map<std::string, LidarBeamModel> lidar_beams;
   // GNSS sensors whose files get the velocity columns (docs/log-format.md); a stream whose
   // first fix carries a velocity gets them too.
   std::set<std::string> gnss_velocity_ids;

@@ -1,9 +1,10 @@
 // Fuzz target: a recorded log folder (docs/log-format.md) read by LogReader, every stream to its
 // end, and its truth file. The input is a list of files, each introduced by a line
 // "== relative/path" (letters, digits, '_', '-', '.', '/'; no ".."), the first usually log.yaml.
-// Lidar sweeps may be PCDs or sweep files (lidar_sweep_file.hpp; make_seeds.py writes small ones
-// of each). Bad input must end in an InputError or a reader error naming file and line (for a
-// sweep file's frame: the field), never a crash.
+// Lidar sweeps may be PCDs, sweep files (lidar_sweep_file.hpp) or packets files
+// (lidar_packet_file.hpp); make_seeds.py writes small ones of each. Bad input must end in an
+// InputError or a reader error naming file and line (for a sweep or packets file: the field),
+// never a crash.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -8,6 +8,7 @@ make_seeds.py SOURCE_DIR LOG_DIR OUT_DIR [MORE_LOG_DIRS...]
   OUT_DIR:    gets fuzz_config/, fuzz_log_reader/ and fuzz_estimators/ seed folders
 """
 import glob
+import math
 import os
 import random
 import struct
@@ -76,7 +77,34 @@ def small_sweep(points):
     return header + struct.pack("<6I", *[len(f) for f in frames]) + b"".join(frames)
 
 
+def small_packets(points):
+    """A lidar packets file (docs/log-format.md) of a 4-channel, 8-column lidar holding its first
+    `points` beams (at most 32), range words and intensity bytes a fixed pattern. Its direction
+    checksum is the reader's: Python's math.cos and math.sin are the C library's, and the
+    directions are LidarBeamModel::Direction's double operations."""
+    channels, columns, rate, azimuth0 = 4, 8, 10.0, math.pi
+    elevations = [-0.25, -0.125, 0.0, 0.125]
+    step = 2.0 * math.pi / columns
+    checksum = 0xcbf29ce484222325
+    for c in range(columns):
+        a = azimuth0 + (-step) * c  # clockwise
+        for e in elevations:
+            for v in (math.cos(e) * math.cos(a), math.cos(e) * math.sin(a), math.sin(e)):
+                for byte in struct.pack("<d", v):
+                    checksum = ((checksum ^ byte) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    masks = bytearray(columns)
+    for k in range(points):
+        masks[k // channels] |= 1 << (k % channels)
+    header = (b"SBLIDPK\0" + struct.pack("<IIIQBBHIdd", 1, points, 0, checksum, 0, 1, channels,
+                                         columns, rate, azimuth0) +
+              struct.pack("<%dd" % channels, *elevations))
+    words = struct.pack("<%dI" % points, *[0x60000000 + 977 * k for k in range(points)])
+    return header + bytes(masks) + words + bytes((7 * k) % 101 for k in range(points))
+
+
 def small_sweep_file(path, points):
+    if path.endswith(".packets"):
+        return small_packets(points)
     return small_sweep(points) if path.endswith(".sweep") else small_pcd(path, points)
 
 

@@ -15,18 +15,10 @@ namespace {
 
 using testing::BareLayoutOptions;
 using testing::ExactLidar;
+using testing::FlatWorld;
 
 constexpr double kPlaneZ = 2.5;
 constexpr double kSensorHeight = 1.8;
-
-std::unique_ptr<LidarWorld> FlatWorld(double plane_z, const std::vector<WorldBox>& boxes = {}) {
-  const GroundHeightFn ground = [plane_z](double, double) { return plane_z; };
-  WorldLayoutOptions layout = BareLayoutOptions();
-  layout.extra_boxes = boxes;
-  LidarWorldOptions options;
-  options.ground_margin_m = 150.0;
-  return LidarWorld::Build(MakeStraightRoad(-50.0, 50.0, 1, 3.5, ground), ground, layout, options);
-}
 
 Vec3 ToWorld(const SE3& T_world_lidar, const LidarPoint& p) {
   return T_world_lidar * Vec3(p.x, p.y, p.z);

@@ -12,27 +12,16 @@
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "log_test_fixtures.hpp"
+#include "lidar_test_fixtures.hpp"
 #include "sensors/lidar_file.hpp"
 #include "sensors/lidar_sweep_file.hpp"
 
 namespace statebench::sensors {
 namespace {
 
-constexpr std::size_t kSweepHeaderBytes = 40;
+using testing::ExpectSameBits;
 
-void ExpectSameBits(const std::vector<LidarPoint>& a, const std::vector<LidarPoint>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i].x), std::bit_cast<std::uint32_t>(b[i].x)) << i;
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i].y), std::bit_cast<std::uint32_t>(b[i].y)) << i;
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i].z), std::bit_cast<std::uint32_t>(b[i].z)) << i;
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i].intensity),
-              std::bit_cast<std::uint32_t>(b[i].intensity))
-        << i;
-    EXPECT_EQ(std::bit_cast<std::uint32_t>(a[i].t), std::bit_cast<std::uint32_t>(b[i].t)) << i;
-    EXPECT_EQ(a[i].ring, b[i].ring) << i;
-  }
-}
+constexpr std::size_t kSweepHeaderBytes = 40;
 
 std::vector<LidarPoint> SweepRoundTrip(const testing::TempLogDir& dir,
                                        const std::vector<LidarPoint>& points) {
@@ -138,11 +127,19 @@ TEST(LidarSweepFile, LidarFileDispatchesOnTheExtension) {
   std::filesystem::create_directories(dir.path());
   const std::vector<LidarPoint> points = SpinningSweep(20, 3);
   for (const LidarFileFormat format : {LidarFileFormat::kSweep, LidarFileFormat::kPcd}) {
-    const auto file = dir.path() / ("a" + std::string(LidarFileExtension(format)));
-    WriteLidarFile(file, points, format);
-    ExpectSameBits(ReadLidarFile(file), points);
+    const std::string name = WriteLidarFile(dir.path(), "a", points, format);
+    EXPECT_EQ(name, "a" + std::string(LidarFileExtension(format)));
+    ExpectSameBits(ReadLidarFile(dir.path() / name), points);
     EXPECT_EQ(ParseLidarFileFormat(LidarFileFormatName(format)), format);
   }
+  // Packets files need a beam model and the points in its beam order: otherwise a sweep file
+  // (lidar_packet_file_test.cpp writes packets files through WriteLidarFile).
+  const LidarBeamModel beams = HesaiXt32BeamModel();
+  EXPECT_EQ(WriteLidarFile(dir.path(), "c", points, LidarFileFormat::kPackets), "c.sweep");
+  std::vector<LidarPoint> reversed(points.rbegin(), points.rend());
+  EXPECT_EQ(WriteLidarFile(dir.path(), "d", reversed, LidarFileFormat::kPackets, &beams), "d.sweep");
+  ExpectSameBits(ReadLidarFile(dir.path() / "d.sweep"), reversed);
+  EXPECT_EQ(ParseLidarFileFormat("packets"), LidarFileFormat::kPackets);
   EXPECT_FALSE(ParseLidarFileFormat("las").has_value());
 }
 
