@@ -67,6 +67,17 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                             {"sigma_h_m", s.sigma_h_m},
                             {"residual_sigma_h_m", s.residual_sigma_h_m}});
   }
+  nlohmann::json batch_solves = nlohmann::json::array();
+  for (const est::BatchSolve& b : d.batch_solves) {
+    batch_solves.push_back({{"begin_s", ToSeconds(b.begin_ns)},
+                            {"end_s", ToSeconds(b.end_ns)},
+                            {"states", b.states},
+                            {"iterations", b.iterations},
+                            {"initial_cost", b.initial_cost},
+                            {"final_cost", b.final_cost},
+                            {"usable", b.usable},
+                            {"solve_s", b.solve_s}});
+  }
   nlohmann::json imu_noise;  // null: the estimator does not measure it (the EKF)
   if (d.imu_noise) {
     const est::ImuNoiseReport& n = *d.imu_noise;
@@ -89,6 +100,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
           {"lost", lost},
           {"local_frame", d.local_frame},
           {"enu_switches", enu_switches},
+          {"batch_solves", batch_solves},
           {"sensors", sensors},
           {"imu_noise", imu_noise},
           {"updates",

@@ -1,5 +1,5 @@
 // statebench estimate LOG --out DIR [--config OPTIONS.yaml] [--setup SETUP.yaml]
-//                        [--full-covariance] [--quiet]
+//                        [--batch] [--full-covariance] [--quiet]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -29,7 +29,7 @@ constexpr const char* kUsage =
     "usage: statebench estimate LOG --out DIR [--estimator factor_graph|ekf] [--config "
     "OPTIONS.yaml]\n"
     "                           [--setup SETUP.yaml] [--vehicle VEHICLE.yaml]\n"
-    "                           [--full-covariance] [--quiet]\n"
+    "                           [--batch] [--full-covariance] [--quiet]\n"
     "  Runs an estimator (default: the factor graph) on a recorded log (simulated or converted\n"
     "  from a real vehicle) and writes the estimate at IMU rate (estimate.csv with the covariance\n"
     "  diagonal, or the full covariance with --full-covariance; estimate.tum), diagnostics.json,\n"
@@ -37,6 +37,8 @@ constexpr const char* kUsage =
     "  scenarios/estimators/<estimator>.yaml, --setup to the log's own sensor setup; the EKF\n"
     "  baseline also needs the vehicle parameters (--vehicle "
     "scenarios/vehicles/quadricycle.yaml).\n"
+    "  --batch: the factor graph's full-batch smoother (every state solved at the end of the log,\n"
+    "  no marginalisation; batch: true in the options), the bound of the fixed-lag smoother.\n"
     "  Exit code 3 when the estimator never initialised (stderr says what it waited for).\n";
 
 std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
@@ -49,7 +51,7 @@ std::filesystem::path DefaultEstimatorConfig(const std::string& estimator) {
 int RunEstimate(const std::vector<std::string>& argv) {
   const auto parsed = ParseCommand({"estimate",
                                     kUsage,
-                                    {"quiet", "full-covariance"},
+                                    {"quiet", "full-covariance", "batch"},
                                     {"out", "config", "setup", "estimator", "vehicle"},
                                     1,
                                     {"out"}},
@@ -69,6 +71,7 @@ int RunEstimate(const std::vector<std::string>& argv) {
     est::EstimatorFiles files;
     files.options = args->Option("config").value_or(DefaultEstimatorConfig(name).string());
     if (const auto vehicle = args->Option("vehicle")) files.vehicle = *vehicle;
+    files.batch = args->Flag("batch");
     // Estimators anchor their ENU frame where they like (configured origin or first fix); the
     // estimate is re-expressed in the log's ENU frame through its WGS84 position so that it
     // compares with the log's truth (the frames' axes differ by the meridian convergence

@@ -80,41 +80,113 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
         std::find(f.inputs.begin(), f.inputs.end(), HeaderOf(m).sensor_id) != f.inputs.end()) {
       f.estimator->Add(m);
     }
+    const bool now = output && !f.estimator->EstimatesAtEnd();
     std::optional<StateEstimate> e;
-    if (output) e = f.estimator->StateAt(imu->header.stamp_ns);
+    if (now) e = f.estimator->StateAt(imu->header.stamp_ns);
     f.time += CurrentStageTimes() - before;
-    if (!e) {
-      if (output) f.steps.Break();
-      continue;
-    }
-    // A local-frame estimate (no GNSS) has no meaningful WGS84 position: kept as it is.
-    const bool local = e->status == EstimateStatus::kLocal;
-    if (frame_ && !local)
-      e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
-    // The step from a local estimate to an ENU one is the change of frame, not a jump.
-    if (local != f.last_local) f.steps.Break();
-    f.last_local = local;
-    f.steps.Add(e->state, imu->gyro);
-    {
-      const StageScope writing(Stage::kWriting);
-      f.writer->Write(*e);
-    }
-    ++f.estimates;
-    f.finite_estimates += e->state.p_world.allFinite() && e->state.v_world.allFinite() &&
-                          e->state.q_world_imu.coeffs().allFinite();
-    epoch_[k] = std::move(e);
+    if (now) epoch_[k] = Present(f, std::move(e), imu->gyro);
   }
   if (!output) return std::nullopt;
   ++imu_stamps_;
-  if (scorer_) {
+  if (EstimatesAtEnd()) {
+    // Until the end of the log: the stamp, the gyro and the other estimators' estimates.
+    HeldEpoch held{imu->header.stamp_ns, imu->gyro, {}};
+    for (std::size_t k = 0; k < estimators_.size(); ++k) {
+      if (!estimators_[k].estimator->EstimatesAtEnd()) {
+        held.live.push_back(HeldEstimate::Of(epoch_[k]));
+      }
+    }
+    held_.push_back(std::move(held));
+  } else if (scorer_) {
     const StageScope scoring(Stage::kScoring);
     scorer_->AddEpoch(imu->header.stamp_ns, epoch_);
   }
   return imu->header.stamp_ns;
 }
 
+std::optional<EstimatorFeed::HeldEstimate> EstimatorFeed::HeldEstimate::Of(
+    const std::optional<StateEstimate>& e) {
+  if (!e) return std::nullopt;
+  return HeldEstimate{e->status, e->state, e->covariance.topLeftCorner<6, 6>(),
+                      e->covariance.block<3, 3>(kVelocityIndex, kVelocityIndex)};
+}
+
+std::optional<StateEstimate> EstimatorFeed::HeldEstimate::Restore(
+    const std::optional<HeldEstimate>& h) {
+  if (!h) return std::nullopt;
+  StateEstimate e;
+  e.status = h->status;
+  e.state = h->state;
+  e.covariance.setZero();
+  e.covariance.topLeftCorner<6, 6>() = h->pose_covariance;
+  e.covariance.block<3, 3>(kVelocityIndex, kVelocityIndex) = h->velocity_covariance;
+  return e;
+}
+
+bool EstimatorFeed::EstimatesAtEnd() const {
+  return std::any_of(estimators_.begin(), estimators_.end(),
+                     [](const FedEstimator& f) { return f.estimator->EstimatesAtEnd(); });
+}
+
+std::optional<StateEstimate> EstimatorFeed::Present(FedEstimator& f,
+                                                    std::optional<StateEstimate> e,
+                                                    const Vec3& gyro) {
+  if (!e) {
+    f.steps.Break();
+    return std::nullopt;
+  }
+  // A local-frame estimate (no GNSS) has no meaningful WGS84 position: kept as it is.
+  const bool local = e->status == EstimateStatus::kLocal;
+  if (frame_ && !local)
+    e->state.p_world = frame_->ToEnu({e->latitude_deg, e->longitude_deg, e->altitude_m});
+  // The step from a local estimate to an ENU one is the change of frame, not a jump.
+  if (local != f.last_local) f.steps.Break();
+  f.last_local = local;
+  f.steps.Add(e->state, gyro);
+  {
+    const StageScope writing(Stage::kWriting);
+    f.writer->Write(*e);
+  }
+  ++f.estimates;
+  f.finite_estimates += e->state.p_world.allFinite() && e->state.v_world.allFinite() &&
+                        e->state.q_world_imu.coeffs().allFinite();
+  return e;
+}
+
+// The estimators that estimate at the end are told the log ended and asked at every held epoch;
+// each epoch then goes to the scorer with every estimator's estimate, as Feed would have done.
+void EstimatorFeed::ReplayHeldEpochs() {
+  for (FedEstimator& f : estimators_) {
+    if (!f.estimator->EstimatesAtEnd()) continue;
+    const StageScope stage(Stage::kEstimators);
+    const StageTimes before = CurrentStageTimes();
+    f.estimator->EndOfLog();
+    f.time += CurrentStageTimes() - before;
+  }
+  for (HeldEpoch& held : held_) {
+    epoch_.assign(estimators_.size(), std::nullopt);
+    std::size_t live = 0;
+    for (std::size_t k = 0; k < estimators_.size(); ++k) {
+      FedEstimator& f = estimators_[k];
+      if (!f.estimator->EstimatesAtEnd()) {
+        epoch_[k] = HeldEstimate::Restore(held.live[live++]);
+        continue;
+      }
+      const StageScope stage(Stage::kEstimators);
+      const StageTimes before = CurrentStageTimes();
+      std::optional<StateEstimate> e = f.estimator->StateAt(held.t_ns);
+      f.time += CurrentStageTimes() - before;
+      epoch_[k] = Present(f, std::move(e), held.gyro);
+    }
+    if (scorer_) scorer_->AddEpoch(held.t_ns, epoch_);
+  }
+  held_.clear();
+  held_.shrink_to_fit();
+}
+
 std::vector<EstimatorScore> EstimatorFeed::Finish() {
   const StageScope stage(Stage::kScoring);
+  ReplayHeldEpochs();
   std::vector<reports::RunScore> run_scores;
   if (scorer_) run_scores = scorer_->Finish();
   if (details_) {

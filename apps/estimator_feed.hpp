@@ -80,12 +80,40 @@ class EstimatorFeed {
   // output epoch).
   std::optional<TimeNs> Feed(const Measurement& m);
 
-  // Closes each writer and finishes each estimator's score.
+  // Ends the log for the estimators that estimate at the end (Estimator::EstimatesAtEnd: their
+  // estimates are written and scored now, at the epochs Feed held), then closes each writer and
+  // finishes each estimator's score.
   std::vector<EstimatorScore> Finish();
+
+  // Whether an estimator estimates at the end: then every output epoch is held until Finish
+  // (stamp, gyro, what the scorer needs of the other estimators' estimates: about 0.5 KB per
+  // epoch and estimator) and
+  // scored there, so that all are scored over one span.
+  bool EstimatesAtEnd() const;
 
   std::vector<FedEstimator>& estimators() { return estimators_; }
 
  private:
+  // What the scorer reads of an estimate (reports/run_scorer.hpp): the state, its status, the
+  // pose and velocity covariance blocks; about 0.5 KB instead of 2.
+  struct HeldEstimate {
+    EstimateStatus status;
+    NavState state;
+    Mat6 pose_covariance;
+    Mat3 velocity_covariance;
+    static std::optional<HeldEstimate> Of(const std::optional<StateEstimate>& e);
+    static std::optional<StateEstimate> Restore(const std::optional<HeldEstimate>& h);
+  };
+  struct HeldEpoch {
+    TimeNs t_ns = 0;
+    Vec3 gyro;
+    std::vector<std::optional<HeldEstimate>> live;  // of the others, in their order
+  };
+  // Re-expresses, meters, writes and counts an estimate; returns it (nullopt when none).
+  std::optional<StateEstimate> Present(FedEstimator& f, std::optional<StateEstimate> e,
+                                       const Vec3& gyro);
+  void ReplayHeldEpochs();
+
   std::string imu_id_;
   std::optional<LocalEnuFrame> frame_;
   std::vector<FedEstimator> estimators_;
@@ -94,6 +122,7 @@ class EstimatorFeed {
   std::vector<reports::OutageWindow> outages_;
   std::vector<std::optional<StateEstimate>> epoch_;  // this epoch's estimates, reused
   std::size_t imu_stamps_ = 0;                       // output stamps offered to every estimator
+  std::vector<HeldEpoch> held_;  // while an estimator estimates at the end
 };
 
 // Writes score.metrics_json to dir/metrics.json.

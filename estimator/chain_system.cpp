@@ -238,4 +238,26 @@ Mat15 NewestMarginalInformation(const ChainSystem& system) {
   return S;
 }
 
+std::vector<Mat15> ChainMarginalCovariances(const ChainSystem& system) {
+  const std::size_t n = system.D.size();
+  std::vector<Mat15> S_inv(n);
+  std::vector<Mat15> G(n > 0 ? n - 1 : 0);
+  Mat15 S = n > 0 ? system.D.front() : Mat15::Zero();
+  for (std::size_t k = 0; k < n; ++k) {
+    S_inv[k] = ChainEliminate<15>(S, Mat15::Identity());
+    S_inv[k] = (0.5 * (S_inv[k] + S_inv[k].transpose())).eval();
+    if (k + 1 == n) break;
+    G[k] = S_inv[k] * system.B[k];
+    S = system.D[k + 1] - system.B[k].transpose().lazyProduct(G[k]);
+    S = (0.5 * (S + S.transpose())).eval();
+  }
+  std::vector<Mat15> P(n);
+  for (std::size_t k = n; k-- > 0;) {
+    P[k] = S_inv[k];
+    if (k + 1 < n) P[k].noalias() += G[k] * P[k + 1] * G[k].transpose();
+    P[k] = (0.5 * (P[k] + P[k].transpose())).eval();
+  }
+  return P;
+}
+
 }  // namespace statebench::est

@@ -59,4 +59,12 @@ bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
 // nearly singular).
 Mat15 NewestMarginalInformation(const ChainSystem& system);
 
+// Every state's marginal covariance, the diagonal blocks of H^-1, in O(N): eliminating oldest
+// first leaves S_0 = D_0, S_{k+1} = D_{k+1} - B_k^T G_k with G_k = S_k^-1 B_k (the information
+// of state k given the newer ones is S_k, its conditional mean moves by -G_k dx_{k+1}); then
+// newest first P_{N-1} = S_{N-1}^-1, P_k = S_k^-1 + G_k P_{k+1} G_k^T (a Rauch-Tung-Striebel
+// sweep). Each S_k is inverted as NewestMarginalInformation does (the pseudo-inverse when
+// nearly singular: an unobserved direction gets no variance rather than an infinite one).
+std::vector<Mat15> ChainMarginalCovariances(const ChainSystem& system);
+
 }  // namespace statebench::est

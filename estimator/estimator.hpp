@@ -33,6 +33,12 @@ class Estimator {
   virtual EstimatorDiagnostics diagnostics() const = 0;
   // Every verdict on a measurement from now on also goes to `observer` (estimator_diagnostics.hpp).
   virtual void SetVerdictObserver(VerdictObserver observer) = 0;
+  // True for an estimator whose estimate exists only once the whole log is in (the factor
+  // graph's full-batch smoother): the caller calls EndOfLog() after the last measurement and
+  // reads StateAt only then (before, it returns nullopt).
+  virtual bool EstimatesAtEnd() const { return false; }
+  // No measurement follows.
+  virtual void EndOfLog() {}
 };
 
 }  // namespace statebench::est

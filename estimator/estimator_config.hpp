@@ -172,6 +172,13 @@ struct FactorGraphOptions {
   int max_iterations = 10;
   int num_threads = 1;
   WindowSolver solver = WindowSolver::kChain;  // sliding_window_smoother.hpp
+  // The full-batch smoother (the accuracy bound the fixed-lag smoother is judged against): the
+  // fixed-lag smoother runs as usual but keeps every state and factor that leaves its window;
+  // at the end of the log they are solved together (no marginalisation) with up to
+  // batch_max_iterations iterations, and the estimate comes from the batch states
+  // (Estimator::EstimatesAtEnd).
+  bool batch = false;
+  int batch_max_iterations = 50;
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   ImuNoiseEstimationOptions imu_noise_estimation;  // imu_noise_monitor.hpp

@@ -149,6 +149,19 @@ struct EnuSwitch {
   double residual_sigma_h_m = 0.0;  // from the fit's residuals
 };
 
+// One full-batch solve (FactorGraphOptions::batch): every state of one smoother run, from its
+// initialisation (or the last restart) to the end of the log or the next restart.
+struct BatchSolve {
+  TimeNs begin_ns = 0;  // the first and last state
+  TimeNs end_ns = 0;
+  int states = 0;
+  int iterations = 0;
+  double initial_cost = 0.0;  // at the fixed-lag estimates
+  double final_cost = 0.0;
+  bool usable = false;  // else the run has no estimate over [begin_ns, end_ns]
+  double solve_s = 0.0;
+};
+
 struct EstimatorDiagnostics {
   bool initialized = false;
   TimeNs initialized_at_ns = 0;
@@ -174,6 +187,7 @@ struct EstimatorDiagnostics {
   std::optional<ImuNoiseReport> imu_noise;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   UpdateLog updates;
+  std::vector<BatchSolve> batch_solves;  // the full-batch smoother's, when it is on
 
   // Records an initialisation at t_ns: the first one, or the end of the open lost episode.
   void Initialized(TimeNs t_ns, const std::string& method);

@@ -12,11 +12,13 @@ std::unique_ptr<Estimator> MakeEstimator(const std::string& name, const Estimato
                                          const EstimatorFiles& files,
                                          LidarOdometryPool* lidar_pool) {
   if (name == "factor_graph") {
-    const FactorGraphOptions options =
+    FactorGraphOptions options =
         files.options.empty() ? FactorGraphOptions{} : LoadFactorGraphOptions(files.options);
+    options.batch = options.batch || files.batch;
     return std::make_unique<FactorGraphEstimator>(setup, options, lidar_pool);
   }
   if (name == "ekf") {
+    if (files.batch) throw InputError("estimator 'ekf' has no full-batch form (batch)");
     if (files.vehicle.empty()) {
       throw InputError("estimator 'ekf' needs the vehicle parameters file (setup " + setup.source +
                        ")");

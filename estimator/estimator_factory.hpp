@@ -20,6 +20,9 @@ struct EstimatorFiles {
   std::filesystem::path options;
   // ekf: the vehicle parameters file (scenarios/vehicles/*.yaml), required. factor_graph: unused.
   std::filesystem::path vehicle;
+  // factor_graph: the full-batch smoother whatever the options file says (batch: true);
+  // ekf: an InputError (it has no batch form).
+  bool batch = false;
 };
 
 // "factor_graph", "ekf".

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "estimator/batch_output.hpp"
 #include "estimator/estimate_status.hpp"
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end_set.hpp"
@@ -85,6 +86,10 @@ struct FactorGraphEstimator::Impl {
     }
     return C;
   }
+
+  // The full-batch smoother's segments (options.batch), and whether the log has ended.
+  BatchOutput batch{setup.imu_noise.value_or(options.imu_noise)};
+  bool ended = false;
 
   TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
   std::optional<ImuSample> last_released_imu;  // the sample at lagged_ns
@@ -169,6 +174,7 @@ struct FactorGraphEstimator::Impl {
   // Lost (a front end said so): an empty window and initialiser, fed again from the next IMU
   // sample; no estimate until initialised again.
   void StartOver() {
+    CloseBatchSegment();
     ctx.Restart();
     ctx.diag.local_frame = false;
     blend.Reset();
@@ -226,6 +232,7 @@ struct FactorGraphEstimator::Impl {
     // The yaw prior at least what a GNSS course start takes: the fit does not model the local
     // track's own error.
     const PropagatedState enu = a.Apply(*now, options.initialization.course_yaw_sigma_rad);
+    CloseBatchSegment();
     ctx.RestartSmoother();
     ctx.smoother.AddImu(*last_released_imu);
     try {
@@ -247,6 +254,56 @@ struct FactorGraphEstimator::Impl {
                                      a.yaw_sigma_rad,
                                      a.sigma_h_m,
                                      a.residual_sigma_h_m});
+  }
+
+  // ---- 3c. The full-batch smoother ----------------------------------------------------------
+
+  // The smoother run that ends here (a restart, the switch into ENU, the end of the log) solved
+  // as a whole (SlidingWindowSmoother::SolveBatch), into the batch output.
+  void CloseBatchSegment() {
+    if (!options.batch || !ctx.smoother.initialized()) return;
+    const auto start = std::chrono::steady_clock::now();
+    SmootherBatch b = ctx.smoother.SolveBatch(options.batch_max_iterations);
+    const auto stop = std::chrono::steady_clock::now();
+    ctx.diag.batch_solves.push_back({b.states.front().t_ns, b.states.back().t_ns,
+                                     static_cast<int>(b.states.size()), b.iterations,
+                                     b.initial_cost, b.final_cost, b.usable,
+                                     std::chrono::duration<double>(stop - start).count()});
+    batch.Add(std::move(b), ctx.local_frame);
+  }
+
+  // Everything still held is released (in stamp order) and the window solved once more; with
+  // the batch, the last segment is then solved as a whole.
+  void EndOfLog() {
+    if (ended) return;
+    ended = true;
+    Release(intake.ReleaseAll());
+    if (ctx.initialized) Solve();
+    CloseBatchSegment();
+  }
+
+  // The batch estimate at t_ns once the log has ended; nullopt before. The calibration share is
+  // added as for the fixed-lag output; there is no correction to blend.
+  std::optional<StateEstimate> BatchStateAt(TimeNs t_ns) const {
+    if (!ended) return std::nullopt;
+    const std::optional<BatchOutput::At> at = batch.StateAt(t_ns);
+    if (!at) return std::nullopt;
+    PropagatedState p = at->state;
+    p.covariance += CalibrationConsider(p.state);
+    return Present(p, at->local_frame, t_ns);
+  }
+
+  // p as the estimate at t_ns: in the local frame (no position sensor, or a state of a local
+  // start) or in ENU once the GNSS front end has its frame (else nullopt), with its status.
+  std::optional<StateEstimate> Present(const PropagatedState& p, bool local_state,
+                                       TimeNs t_ns) const {
+    const std::optional<LocalEnuFrame>& enu = front_end_set.gnss->frame();
+    const bool local = position_sensors.empty() || local_state;
+    const LocalEnuFrame* frame = local ? &local_frame : (enu ? &*enu : nullptr);
+    if (frame == nullptr) return std::nullopt;
+    std::optional<StateEstimate> out = ToStateEstimate(p, *frame);
+    if (out) out->status = StatusAt(ctx.diag, position_sensors, t_ns);
+    return out;
   }
 
   // ---- 4. Solve ------------------------------------------------------------------------------
@@ -303,18 +360,14 @@ FactorGraphEstimator::~FactorGraphEstimator() = default;
 void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(measurement); }
 
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
+  if (impl_->options.batch) return impl_->BatchStateAt(t_ns);
   std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
-  const std::optional<LocalEnuFrame>& enu = impl_->front_end_set.gnss->frame();
-  const bool local = impl_->position_sensors.empty() || impl_->ctx.local_frame;
-  const LocalEnuFrame* frame = local ? &impl_->local_frame : (enu ? &*enu : nullptr);
-  if (!p || frame == nullptr) return std::nullopt;
+  if (!p) return std::nullopt;
   // The calibration share at the best estimate; the blend's offset on top (output_blend.hpp).
   const Mat15 consider = impl_->CalibrationConsider(p->state);
   *p = impl_->blend.Apply(*p);
   p->covariance += consider;
-  std::optional<StateEstimate> out = ToStateEstimate(*p, *frame);
-  if (out) out->status = StatusAt(impl_->ctx.diag, impl_->position_sensors, t_ns);
-  return out;
+  return impl_->Present(*p, impl_->ctx.local_frame, t_ns);
 }
 
 EstimatorDiagnostics FactorGraphEstimator::diagnostics() const {
@@ -326,6 +379,10 @@ EstimatorDiagnostics FactorGraphEstimator::diagnostics() const {
 void FactorGraphEstimator::SetVerdictObserver(VerdictObserver observer) {
   impl_->ctx.verdicts = std::move(observer);
 }
+
+bool FactorGraphEstimator::EstimatesAtEnd() const { return impl_->options.batch; }
+
+void FactorGraphEstimator::EndOfLog() { impl_->EndOfLog(); }
 
 void FactorGraphEstimator::KeepSmoothedStates() { impl_->keep_smoothed = true; }
 

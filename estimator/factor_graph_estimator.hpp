@@ -55,6 +55,17 @@ class FactorGraphEstimator final : public Estimator {
   std::optional<StateEstimate> StateAt(TimeNs t_ns) const override;
   EstimatorDiagnostics diagnostics() const override;
   void SetVerdictObserver(VerdictObserver observer) override;
+  // EndOfLog releases what the reorder buffer holds and solves the window once more (StateAt
+  // then shows every measurement; no measurement may follow).
+  //
+  // options.batch: the full-batch smoother. The fixed-lag smoother runs as without it (same
+  // states, factors, gates and front ends; the lidar front end's initial guesses come from it)
+  // but keeps every state and factor that leaves its window; each smoother run (from an
+  // initialisation to a restart, the switch into ENU or EndOfLog) is then solved as a whole
+  // (SlidingWindowSmoother::SolveBatch). StateAt answers from the batch states
+  // (batch_output.hpp), and nullopt before EndOfLog.
+  bool EstimatesAtEnd() const override;
+  void EndOfLog() override;
 
   // From now on, keep the smoothed states that leave the window (their final estimates) until
   // TakeSmoothedStates takes them; off by default, so that a long run keeps nothing it is not

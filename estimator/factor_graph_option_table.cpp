@@ -274,6 +274,10 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
       .Choice("solver", &F::solver,
               {{"ceres", WindowSolver::kCeres}, {"chain", WindowSolver::kChain}},
               "ceres::Solve, or the same Levenberg-Marquardt on the window's chain structure")
+      .Flag("batch", &F::batch,
+            "full-batch smoother: every state solved at the end of the log, no marginalisation")
+      .Integer("batch_max_iterations", &F::batch_max_iterations, 1,
+               "Levenberg-Marquardt iterations of the batch solve")
       .Custom(
           "origin",
           [](const YamlNode& n, F* o) {

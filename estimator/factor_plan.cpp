@@ -17,6 +17,7 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   s.max_iterations = o.max_iterations;
   s.num_threads = o.num_threads;
   s.solver = o.solver;
+  s.keep_all_states = o.batch;
   return s;
 }
 

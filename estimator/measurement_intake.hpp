@@ -34,6 +34,8 @@ class MeasurementIntake {
   // Takes every held measurement stamped before t_ns out of the stream (the estimator starts
   // over after a gap: what came before it can no longer be used).
   std::vector<Measurement> DropBefore(TimeNs t_ns) { return reorder_.Release(t_ns - 1); }
+  // Every held measurement, in stamp order (the log ended).
+  std::vector<Measurement> ReleaseAll() { return reorder_.Release(INT64_MAX); }
 
  private:
   bool AfterArrival(const MeasurementHeader& h) const;

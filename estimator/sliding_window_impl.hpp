@@ -46,10 +46,14 @@ struct SlidingWindowSmoother::Impl {
     kZeroRate
   };
 
+  // The node owns its factors' cost and loss functions (the problem does not): a state that
+  // leaves the window keeps them when the batch store holds it (keep_all_states).
   struct Factor {
     FactorKind kind;
     FactorRecord record;
     ceres::ResidualBlockId id = nullptr;
+    std::unique_ptr<const ceres::CostFunction> cost_owner;
+    std::unique_ptr<const ceres::LossFunction> loss_owner;
   };
 
   // One state; held by unique_ptr so the parameter block addresses never move. Factors are
@@ -71,6 +75,8 @@ struct SlidingWindowSmoother::Impl {
     ceres::Problem::Options p;
     p.enable_fast_removal = true;
     p.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // one shared manifold
+    p.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // Factor owns them
+    p.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     return p;
   }
 
@@ -90,6 +96,11 @@ struct SlidingWindowSmoother::Impl {
   };
   std::vector<Pending> pending;
   std::vector<NavState> marginalized;
+  // The batch store (options.keep_all_states): every state that left the window, oldest first,
+  // with its factors but without its marginalisation prior, and every IMU sample since the
+  // first state (the window's buffer forgets them).
+  std::vector<std::unique_ptr<Node>> kept;
+  std::vector<ImuSample> all_imu;
   int num_dropped = 0;  // pending measurements found too old, since the last Solve
   int num_left_out = 0;  // factors non-finite at marginalisation (Linearize), since the last Solve
   // The newest state's information from the last chain solve's final linearisation; cleared by
@@ -107,7 +118,9 @@ struct SlidingWindowSmoother::Impl {
                  ceres::LossFunction* loss, std::vector<double*> blocks) {
     newest_information.reset();
     const ceres::ResidualBlockId id = problem.AddResidualBlock(cost, loss, blocks);
-    anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}, id});
+    anchor.factors.push_back({kind, FactorRecord{cost, loss, std::move(blocks)}, id,
+                              std::unique_ptr<const ceres::CostFunction>(cost),
+                              std::unique_ptr<const ceres::LossFunction>(loss)});
   }
 
   // Latest state with t_ns <= t, or nullptr if t is before the window.
@@ -268,6 +281,7 @@ struct SlidingWindowSmoother::Impl {
     for (const Factor& f : old.factors) problem.RemoveResidualBlock(f.id);
     for (double* block : old.Blocks()) problem.RemoveParameterBlock(block);
     marginalized.push_back(old.State());
+    if (options.keep_all_states) Keep(std::move(states.front()));
     states.pop_front();
     const TimeNs t_oldest = states.front()->t_ns;
     // Keep the samples before the oldest state that preintegration from it uses as context
@@ -277,6 +291,15 @@ struct SlidingWindowSmoother::Impl {
                          [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
     first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples, first_kept - imu.begin());
     imu.erase(imu.begin(), first_kept);
+  }
+
+  // Into the batch store; the marginalisation prior goes (the batch has every factor it
+  // summarised), the first state's initial prior stays.
+  void Keep(std::unique_ptr<Node> node) {
+    if (!kept.empty()) {
+      std::erase_if(node->factors, [](const Factor& f) { return f.kind == FactorKind::kPrior; });
+    }
+    kept.push_back(std::move(node));
   }
 
   // The window as chain_system.hpp sees it: each state's blocks and the factors anchored there.

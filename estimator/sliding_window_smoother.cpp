@@ -65,6 +65,7 @@ void SlidingWindowSmoother::AddImu(const ImuSample& sample) {
     return;
   }
   m.imu.push_back(sample);
+  if (m.options.keep_all_states) m.all_imu.push_back(sample);
   if (++m.samples_since_state >= m.options.imu_samples_per_state) {
     m.CreateState(sample.header.stamp_ns);
     m.samples_since_state = 0;
@@ -86,6 +87,7 @@ void SlidingWindowSmoother::Initialize(const NavState& state, const Mat15& covar
   m.AddFactor(*node, Impl::FactorKind::kPrior, prior, nullptr, node->Blocks());
   m.states.push_back(std::move(node));
   m.samples_since_state = 0;
+  if (m.options.keep_all_states) m.all_imu = m.imu;
 }
 
 AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {

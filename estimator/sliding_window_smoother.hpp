@@ -48,6 +48,9 @@ struct SlidingWindowOptions {
   double initial_trust_region_radius = 1e13;
   int num_threads = 1;
   WindowSolver solver = WindowSolver::kCeres;
+  // The batch store: keep every state and factor that leaves the window (memory grows with the
+  // run: about 10 KB per state with lidar factors) for SolveBatch.
+  bool keep_all_states = false;
 
   bool IsValid(std::string* why = nullptr) const;
 };
@@ -74,6 +77,19 @@ struct SmootherSolveSummary {
   int num_velocity_factors = 0;
   int num_zero_rate_factors = 0;
   int num_dropped_pending = 0;  // waiting measurements the window passed before the IMU came
+};
+
+// Every state since Initialize solved at once (SlidingWindowSmoother::SolveBatch).
+struct SmootherBatch {
+  bool usable = false;  // as SmootherSolveSummary::usable
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  std::vector<NavState> states;  // oldest first
+  // Each state's marginal covariance in the batch's linearised system (core/state.hpp
+  // ordering); empty when the solve is not usable.
+  std::vector<Mat15> covariances;
+  std::vector<ImuSample> imu;  // every raw sample from the first state's stamp on
 };
 
 class SlidingWindowSmoother {
@@ -125,6 +141,15 @@ class SlidingWindowSmoother {
 
   // Optimises the window, then marginalises the states that left it.
   SmootherSolveSummary Solve();
+
+  // With keep_all_states: the full-batch smoother. Every state since Initialize (those that
+  // left the window and the window's) with every factor they had, the first state's initial
+  // prior but no marginalisation prior, solved together by the chain Levenberg-Marquardt from
+  // the values they have (the fixed-lag estimates) with up to max_iterations iterations; the
+  // covariances are the marginals of the final linearisation (chain_system.hpp). Call once, at
+  // the end: the smoother is left with the batch values. InputError without keep_all_states or
+  // before Initialize.
+  SmootherBatch SolveBatch(int max_iterations);
 
   NavState NewestState() const;
   // Newest state propagated with the IMU to the newest sample (equal to NewestState() when a

@@ -161,6 +161,14 @@ inline double RotationError(const NavState& est, const NavState& truth) {
   return so3::Log<double>(truth.q_world_imu.conjugate() * est.q_world_imu).norm();
 }
 
+// [rotation (right perturbation), position, velocity] of a minus b.
+inline Vec9 StateDifference(const NavState& a, const NavState& b) {
+  Vec9 d;
+  d << so3::Log<double>(b.q_world_imu.conjugate() * a.q_world_imu), a.p_world - b.p_world,
+      a.v_world - b.v_world;
+  return d;
+}
+
 // |yaw error| (rad, wrapped), yaw as so3::ToRollPitchYaw gives it.
 inline double YawError(const NavState& est, const NavState& truth) {
   return std::abs(so3::WrapAngle(so3::ToRollPitchYaw(est.q_world_imu).z() -

@@ -29,14 +29,6 @@ PropagatedState BestAt(double t_s) {
   return p;
 }
 
-// [rotation (right perturbation), position, velocity] of a minus b.
-Vec9 Difference(const NavState& a, const NavState& b) {
-  Vec9 d;
-  d << so3::Log<double>(b.q_world_imu.conjugate() * a.q_world_imu), a.p_world - b.p_world,
-      a.v_world - b.v_world;
-  return d;
-}
-
 // What the output showed at t_s with the old anchor: `position` m, 0.02 rad and 0.05 m/s off.
 NavState Shown(double t_s, double position) {
   NavState shown = BestAt(t_s).state;
@@ -50,11 +42,11 @@ NavState Shown(double t_s, double position) {
 // checking continuity, the ramp and the covariance on the way; returns the largest step.
 double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
                    double duration_s) {
-  const Vec9 d = Difference(shown, BestAt(t_s).state);
+  const Vec9 d = testing::StateDifference(shown, BestAt(t_s).state);
   const PropagatedState at = blend.Apply(BestAt(t_s));
-  EXPECT_LT(Difference(at.state, shown).norm(), 1e-12);  // what was shown, exactly
+  EXPECT_LT(testing::StateDifference(at.state, shown).norm(), 1e-12);  // what was shown, exactly
   // Before the solve: untouched.
-  EXPECT_LT(Difference(blend.Apply(BestAt(t_s - 0.01)).state, BestAt(t_s - 0.01).state).norm(),
+  EXPECT_LT(testing::StateDifference(blend.Apply(BestAt(t_s - 0.01)).state, BestAt(t_s - 0.01).state).norm(),
             1e-15);
   double largest = 0.0;
   PropagatedState previous = at;
@@ -64,7 +56,7 @@ double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
     const PropagatedState out = blend.Apply(best);
     const Vec3 motion = best.state.p_world - BestAt(t - 0.01).state.p_world;
     largest = std::max(largest, (out.state.p_world - previous.state.p_world - motion).norm());
-    const Vec9 b = Difference(out.state, best.state);
+    const Vec9 b = testing::StateDifference(out.state, best.state);
     const double w = std::max(0.0, 1.0 - (t - t_s) / duration_s);
     EXPECT_LT((b - w * d).norm(), 1e-9) << "t " << t;
     // The covariance grows by exactly the square of the offset shown.
@@ -164,7 +156,7 @@ TEST(OutputBlend, FactorGraphOutputDoesNotJumpWhenTheOutageEnds) {
   for (const auto& [t, e] : blended) {
     const auto it = jumping.find(t);
     ASSERT_NE(it, jumping.end());
-    const Vec9 offset = Difference(e.state, it->second.state);
+    const Vec9 offset = testing::StateDifference(e.state, it->second.state);
     if (ToSeconds(t) > so.outage_end_s + 1.0 + blend.max_s) {
       late_difference = std::max(late_difference, offset.segment<3>(3).norm());
     }
