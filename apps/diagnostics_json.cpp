@@ -67,6 +67,20 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                             {"sigma_h_m", s.sigma_h_m},
                             {"residual_sigma_h_m", s.residual_sigma_h_m}});
   }
+  nlohmann::json imu_noise;  // null: the estimator does not measure it (the EKF)
+  if (d.imu_noise) {
+    const est::ImuNoiseReport& n = *d.imu_noise;
+    imu_noise = {{"enabled", n.enabled},
+                 {"blocks", n.blocks},
+                 {"gyro_noise_density", {{"configured", n.gyro_configured},
+                                         {"measured", n.gyro_measured},
+                                         {"used", n.gyro_used},
+                                         {"used_max", n.gyro_used_max}}},
+                 {"accel_noise_density", {{"configured", n.accel_configured},
+                                          {"measured", n.accel_measured},
+                                          {"used", n.accel_used},
+                                          {"used_max", n.accel_used_max}}}};
+  }
   return {{"initialized", d.initialized},
           {"initialized_at_s", ToSeconds(d.initialized_at_ns)},
           {"initialization", d.initialization},
@@ -76,6 +90,7 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
           {"local_frame", d.local_frame},
           {"enu_switches", enu_switches},
           {"sensors", sensors},
+          {"imu_noise", imu_noise},
           {"updates",
            {{"count", u.count()},
             {"unusable", u.unusable()},

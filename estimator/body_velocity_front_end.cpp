@@ -27,8 +27,7 @@ BodyVelocityFrontEnd::BodyVelocityFrontEnd(const EstimatorSensorSetup& setup,
                                            const FactorGraphOptions& options, FrontEndContext& ctx)
     : setup_(setup),
       options_(options),
-      ctx_(ctx),
-      gyro_noise_density_(setup.imu_noise.value_or(options.imu_noise).gyro_noise_density) {}
+      ctx_(ctx) {}
 
 Claim BodyVelocityFrontEnd::Claims(const Measurement& m) const {
   if (!std::holds_alternative<BodyVelocity>(m)) return Claim::kOtherKind;
@@ -96,14 +95,15 @@ void BodyVelocityFrontEnd::OnRestart() {
 void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3) return;
-  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_);
+  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
   if (!window.Quiet(z)) return;
   const Vec3& mean_g = window.mean_gyro;
   const auto predicted = ctx_.PredictAt(t_ns);
   if (!predicted || (mean_g - predicted->state.gyro_bias).norm() > kMaxStillRateRadps) return;
   const double span_s = ToSeconds(recent_imu_.back().header.stamp_ns - *zero_since_ns_);
   if (!(span_s > 0.0)) return;
-  const double sigma = gyro_noise_density_ / std::sqrt(span_s);
+  // The noise in use: the datasheet's, or the measured one above it (imu_noise_monitor.hpp).
+  const double sigma = ctx_.imu_noise().gyro_noise_density / std::sqrt(span_s);
   if (ctx_.smoother.AddZeroRate(t_ns, mean_g, sigma, RobustKernel{}) != AddResult::kTooOld) {
     ctx_.Count(id, "zero_rate_factors");
   }

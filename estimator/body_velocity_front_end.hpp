@@ -51,7 +51,6 @@ class BodyVelocityFrontEnd final : public MeasurementFrontEnd {
   const EstimatorSensorSetup& setup_;
   const FactorGraphOptions& options_;
   FrontEndContext& ctx_;
-  double gyro_noise_density_;
   std::optional<TimeNs> zero_since_ns_;  // the previous sample read zero, at this stamp
   std::vector<ImuSample> recent_imu_;    // released samples after zero_since_ns_
 };

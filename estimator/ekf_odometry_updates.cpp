@@ -71,10 +71,13 @@ void EkfSingleTrackEstimator::Impl::UpdateBodyVelocity(const std::string& id,
 }
 
 void EkfSingleTrackEstimator::Impl::UpdateStandstill(const std::string& id, const BodyVelocity& m) {
-  const ZeroVelocityOptions thresholds;  // the factor graph's defaults
+  // The factor graph's defaults, raw samples only (the low band's test is not measured on the
+  // EKF's standstill update yet).
+  ZeroVelocityOptions thresholds;
+  thresholds.lowpass_s = 0.0;
   const bool zero = BodyVelocityReadsZero(m, thresholds.max_encoder_speed_mps);
   if (zero && odometry_zero_since_ns && standstill_imu.size() >= 3) {
-    const ImuWindowStatistics window = ComputeImuWindowStatistics(standstill_imu);
+    const ImuWindowStatistics window = ComputeImuWindowStatistics(standstill_imu, thresholds);
     const double mean_rate = (R_body_imu * window.mean_gyro).z();
     if (window.Quiet(thresholds) &&
         std::abs(mean_rate - x[ekf::kBg]) <= BodyVelocityFrontEnd::kMaxStillRateRadps) {

@@ -23,6 +23,7 @@
 #include "core/se3.hpp"
 #include "core/yaml_node.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/imu_noise_monitor.hpp"
 #include "estimator/measurement_checks.hpp"
 #include "estimator/motion_factor_options.hpp"
 #include "estimator/output_blend.hpp"
@@ -107,6 +108,9 @@ struct InitializationOptions {
   double static_duration_s = 1.0;           // still period averaged for gravity and gyro bias
   double static_max_gyro_std_radps = 0.01;  // per axis, over the still period
   double static_max_accel_std_mps2 = 0.1;   // per axis
+  // With an engine running no raw window is quiet: the window counts as still when its low band
+  // (below ~3 Hz, two moving averages of this; imu_band_split.hpp) is. 0: the raw test only.
+  double static_lowpass_s = 0.1;
   // The IMU cannot tell a constant velocity from standstill: a still period counts only when the
   // GNSS fixes since the IMU began to look still bound the horizontal speed (least-squares
   // speed + 3 sigma) below this. Noisy fixes need a longer wait (CEP 2 m at 10 Hz: ~15 s).
@@ -170,6 +174,7 @@ struct FactorGraphOptions {
   WindowSolver solver = WindowSolver::kChain;  // sliding_window_smoother.hpp
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
+  ImuNoiseEstimationOptions imu_noise_estimation;  // imu_noise_monitor.hpp
   InitializationOptions initialization;
   MeasurementGateOptions gnss{.adapt_covariance = true};             // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)

@@ -14,6 +14,7 @@
 
 #include "core/running_statistics.hpp"
 #include "core/time.hpp"
+#include "estimator/imu_noise_monitor.hpp"
 
 namespace statebench::est {
 
@@ -169,6 +170,8 @@ struct EstimatorDiagnostics {
   // the GNSS could give the yaw), and each time such a start moved into ENU.
   bool local_frame = false;
   std::vector<EnuSwitch> enu_switches;
+  // The IMU noise measured and used (imu_noise_monitor.hpp); the factor graph's only.
+  std::optional<ImuNoiseReport> imu_noise;
   std::map<std::string, SensorCounters> sensors;  // by sensor id, unknown ids included
   UpdateLog updates;
 

@@ -40,7 +40,8 @@ struct FactorGraphEstimator::Impl {
         options(o),
         plan(PlanFactors(setup, o)),
         ctx(SmootherOptions(setup, o), o.initialization, s.imu_noise.value_or(o.imu_noise),
-            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup)),
+            setup.T_body_imu.rotation().conjugate() * Vec3::UnitX(), LocalStartOf(setup),
+            o.imu_noise_estimation),
         intake(setup, FromSeconds(o.ReorderLatency(setup)), o.imu_limits),
         front_end_set(MakeFrontEnds(setup, plan, options, ctx, lidar_pool)) {
     for (const auto& f : front_end_set.all) front_ends.push_back(f.get());

@@ -79,6 +79,8 @@ OptionTable<InitializationOptions> InitializationTable() {
               "still if the gyro std per axis is below")
       .Number("static_max_accel_std_mps2", &I::static_max_accel_std_mps2, p,
               "still if the accel std per axis is below")
+      .Number("static_lowpass_s", &I::static_lowpass_s, Range::NonNegative(),
+              "or if the std below ~3 Hz is: two moving averages of this (0: raw only)")
       .Number("static_max_speed_mps", &I::static_max_speed_mps, p,
               "still if the fixes bound the speed below")
       .Number("course_min_distance_m", &I::course_min_distance_m, p,
@@ -207,15 +209,38 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
       .Number("window_s", &Z::window_s, p, "IMU window of the standstill test")
       .Number("max_gyro_std_radps", &Z::max_gyro_std_radps, p, "quiet gyro, per axis")
       .Number("max_accel_std_mps2", &Z::max_accel_std_mps2, p, "quiet accelerometer, per axis")
+      .Number("lowpass_s", &Z::lowpass_s, Range::NonNegative(),
+              "or quiet below ~3 Hz: two moving averages of this (0: raw samples only)")
       .Number("max_encoder_speed_mps", &Z::max_encoder_speed_mps, p,
               "the speed encoder reads below this over the whole window")
+      .Number("doppler_window_s", &Z::doppler_window_s, p,
+              "without an encoder: GNSS Doppler velocities averaged over this")
+      .Number("max_doppler_speed_mps", &Z::max_doppler_speed_mps, p,
+              "without an encoder: their mean's horizontal speed below")
       .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
-              "without an encoder: estimated speed below")
+              "without an encoder or Doppler: estimated speed below")
+      .Number("estimated_speed_sigmas", &Z::estimated_speed_sigmas, Range::NonNegative(),
+              "plus this many of its sigmas (a GNSS outage's drifted speed)")
       .Number("max_acceleration_mps2", &Z::max_acceleration_mps2, p,
               "without an encoder: measured acceleration below")
       .Number("sigma_mps", &Z::sigma_mps, p, "velocity sigma of the factor")
       .Number("sigma_without_encoder_mps", &Z::sigma_without_encoder_mps, p,
               "its sigma without a speed encoder");
+  return t;
+}
+
+OptionTable<ImuNoiseEstimationOptions> ImuNoiseEstimationTable() {
+  using E = ImuNoiseEstimationOptions;
+  const Range p = Range::Positive();
+  OptionTable<E> t("imu_noise_estimation");
+  t.Flag("enabled", &E::enabled, "measure the IMU noise and inflate imu_noise to it")
+      .Number("block_s", &E::block_s, p, "one measurement per block of this")
+      .Number("scale_s", &E::scale_s, p, "the noise of means over this (Hadamard variance)")
+      .Number("time_constant_s", &E::time_constant_s, p, "running mean of the blocks")
+      .Number("inflate_above", &E::inflate_above, Range::AtLeast(1.0),
+              "used when above this x the configured density")
+      .Number("max_inflation", &E::max_inflation, Range::AtLeast(1.0),
+              "at most this x the configured density");
   return t;
 }
 
@@ -268,6 +293,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
           "{latitude_deg, longitude_deg, altitude_m}", "ENU origin")
       .Section("imu_noise", &F::imu_noise, ImuNoiseOptionTable(),
                "IMU noise (Kalibr units); a setup's imu entry may override it")
+      .Section("imu_noise_estimation", &F::imu_noise_estimation, ImuNoiseEstimationTable(),
+               "the IMU noise measured online; inflates imu_noise, never deflates it")
       .Section("initialization", &F::initialization, InitializationTable(), "first state")
       .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m", true), "GNSS position factors")
       .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),

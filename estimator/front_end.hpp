@@ -19,6 +19,7 @@
 #include "core/time.hpp"
 #include "estimator/enu_alignment.hpp"
 #include "estimator/estimator_diagnostics.hpp"
+#include "estimator/imu_noise_monitor.hpp"
 #include "estimator/imu_rate_output.hpp"
 #include "estimator/sliding_window_smoother.hpp"
 #include "estimator/state_initializer.hpp"
@@ -34,7 +35,8 @@ class FrontEndContext {
   // local: how a setup without an absolute-position sensor starts.
   FrontEndContext(const SlidingWindowOptions& smoother_options,
                   const InitializationOptions& initialization, const ImuNoise& noise,
-                  const Vec3& forward_imu, LocalStart local = {})
+                  const Vec3& forward_imu, LocalStart local = {},
+                  const ImuNoiseEstimationOptions& noise_estimation = {})
       : smoother(smoother_options),
         initializer(initialization, noise, forward_imu, local),
         output(noise),
@@ -42,7 +44,10 @@ class FrontEndContext {
         initialization_(initialization),
         noise_(noise),
         forward_imu_(forward_imu),
-        local_(local) {}
+        local_(local),
+        noise_monitor_(noise_estimation, noise) {
+    diag.imu_noise = noise_monitor_.report();
+  }
 
   SlidingWindowSmoother smoother;
   StateInitializer initializer;
@@ -76,6 +81,26 @@ class FrontEndContext {
     std::construct_at(&smoother, smoother_options_);
   }
 
+  // The IMU noise the smoother and the output use from now on, and after a restart (the
+  // measured one, imu_noise_monitor.hpp).
+  void SetImuNoise(const ImuNoise& noise) {
+    smoother.SetImuNoise(noise);
+    output.SetNoise(noise);
+    smoother_options_.imu_noise = noise;
+    noise_ = noise;
+  }
+  const ImuNoise& imu_noise() const { return noise_; }
+
+  // The samples of a window the standstill test passed: the noise measured on them inflates the
+  // one in use when it is well above the datasheet's (imu_noise_monitor.hpp).
+  template <typename Samples>
+  void MeasureStillImu(const Samples& window) {
+    bool changed = false;
+    for (const ImuSample& s : window) changed = noise_monitor_.AddStill(s) || changed;
+    if (changed) SetImuNoise(noise_monitor_.used());
+    diag.imu_noise = noise_monitor_.report();
+  }
+
   // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window
   // (mean from the states around t, covariance of the newest state); nullopt if not held.
   std::optional<PropagatedState> PredictAt(TimeNs t_ns) const {
@@ -99,6 +124,7 @@ class FrontEndContext {
   ImuNoise noise_;
   Vec3 forward_imu_;
   LocalStart local_;
+  ImuNoiseMonitor noise_monitor_;  // kept across restarts, as the noise it measured
 };
 
 // How a front end answers for a measurement: not its kind, its kind from a sensor the setup does

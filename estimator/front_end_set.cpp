@@ -12,8 +12,9 @@ FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& p
                           LidarOdometryPool* lidar_pool) {
   FrontEndSet set;
   auto encoders = std::make_unique<EncoderFrontEnd>(setup, plan, options, ctx);
-  auto motion = std::make_unique<MotionConstraintFrontEnd>(setup, plan, options, *encoders, ctx);
   auto gnss = std::make_unique<GnssFrontEnd>(setup, options, ctx);
+  auto motion =
+      std::make_unique<MotionConstraintFrontEnd>(setup, plan, options, *encoders, *gnss, ctx);
   set.gnss = gnss.get();
   set.all.push_back(std::move(encoders));
   set.all.push_back(std::move(motion));

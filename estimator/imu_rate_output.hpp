@@ -24,6 +24,8 @@ namespace statebench::est {
 class ImuRateOutput {
  public:
   explicit ImuRateOutput(const ImuNoise& noise) : noise_(noise) {}
+  // The noise of propagations from now on (imu_noise_monitor.hpp).
+  void SetNoise(const ImuNoise& noise) { noise_ = noise; }
 
   // An accepted raw sample; stamps must increase.
   void AddImu(const ImuSample& sample);

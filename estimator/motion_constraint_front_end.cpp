@@ -10,8 +10,13 @@ MotionConstraintFrontEnd::MotionConstraintFrontEnd(const EstimatorSensorSetup& s
                                                    const FactorPlan& plan,
                                                    const FactorGraphOptions& options,
                                                    const EncoderFrontEnd& encoders,
-                                                   FrontEndContext& ctx)
-    : imu_id_(setup.imu_id), plan_(plan), options_(options), encoders_(encoders), ctx_(ctx) {}
+                                                   const GnssFrontEnd& gnss, FrontEndContext& ctx)
+    : imu_id_(setup.imu_id),
+      plan_(plan),
+      options_(options),
+      encoders_(encoders),
+      gnss_(gnss),
+      ctx_(ctx) {}
 
 void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
   recent_imu_.push_back(s);
@@ -25,6 +30,7 @@ void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (z.enabled && t >= next_zupt_ns_ && StandingStill(t)) {
     next_zupt_ns_ = t + FromSeconds(1.0 / z.rate_hz);
+    ctx_.MeasureStillImu(recent_imu_);
     BodyVelocityMeasurement m;
     const double sigma =
         encoders_.has_speed_encoder() ? z.sigma_mps : z.sigma_without_encoder_mps;
@@ -55,15 +61,35 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   }
 }
 
-// The IMU is quiet over the window and the speed encoder reads zero over it (or, without one,
-// the estimated speed is low).
+namespace {
+
+// The estimated horizontal speed is within max_estimated_speed_mps + estimated_speed_sigmas x
+// its sigma (along the estimated velocity) of zero: in a GNSS outage the speed drifts away from
+// a stop the IMU shows (a tilt error of 0.01 rad leaks 0.1 m/s^2 of gravity).
+bool EstimatedSpeedNearZero(const PropagatedState& predicted, const ZeroVelocityOptions& z) {
+  const Vec3& v = predicted.state.v_world;
+  const Vec2 v_h = v.head<2>();
+  const double speed = v_h.norm();
+  double sigma = 0.0;
+  if (speed > 0.0) {
+    const Vec2 u = v_h / speed;
+    const Mat2 P = predicted.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex);
+    sigma = std::sqrt(std::max(0.0, u.dot(P * u)));
+  }
+  return std::hypot(speed, v.z()) < z.max_estimated_speed_mps + z.estimated_speed_sigmas * sigma;
+}
+
+}  // namespace
+
+// The IMU is quiet over the window and the speed encoder reads zero over it (without one, the
+// Doppler velocity's mean is near zero, or without that the estimated speed is low).
 bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3 ||
       t_ns - recent_imu_.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
     return false;
   }
-  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_);
+  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
   if (!window.Quiet(z)) return false;
   const Vec3& mean_a = window.mean_accel;
   if (encoders_.has_speed_encoder()) {
@@ -73,8 +99,14 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
            encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
   }
   const auto predicted = ctx_.PredictAt(t_ns);
-  if (!predicted || predicted->state.v_world.norm() >= z.max_estimated_speed_mps) return false;
+  if (!predicted) return false;
+  const std::optional<Vec2> doppler =
+      gnss_.MeanDopplerVelocity(t_ns - FromSeconds(z.doppler_window_s), t_ns);
   const NavState& x = predicted->state;
+  if (doppler ? !(doppler->norm() < z.max_doppler_speed_mps)
+              : !EstimatedSpeedNearZero(*predicted, z)) {
+    return false;
+  }
   const Vec3 acceleration = x.q_world_imu * (mean_a - x.accel_bias) + kGravityWorld;
   return acceleration.norm() < z.max_acceleration_mps2;
 }

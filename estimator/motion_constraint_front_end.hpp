@@ -1,8 +1,10 @@
 // Motion-constraint front end: vehicle-model-free factors on the IMU stream. Non-holonomic: the
 // rear axle moves neither sideways nor vertically (sigma growing with the lateral acceleration
 // for slip), at `rate_hz` while no kinematic factor constrains the same motion. Zero velocity:
-// the IMU is quiet over a window and the speed encoder reads zero (without one, the estimated
-// speed is low).
+// the IMU is quiet over a window (raw, or below ~3 Hz with an engine running) and a speed
+// reading says the vehicle stands: the speed encoder reads zero, else the receiver's Doppler
+// velocity is near zero, else (neither in the setup, or a GNSS outage) the estimated speed is
+// low (motion_factor_options.hpp, ZeroVelocityOptions).
 #pragma once
 
 #include <deque>
@@ -10,15 +12,16 @@
 #include "estimator/encoder_front_end.hpp"
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end.hpp"
+#include "estimator/gnss_front_end.hpp"
 
 namespace statebench::est {
 
 class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
  public:
-  // `plan`, `options` and `encoders` must outlive the front end.
+  // `plan`, `options`, `encoders` and `gnss` must outlive the front end.
   MotionConstraintFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
                            const FactorGraphOptions& options, const EncoderFrontEnd& encoders,
-                           FrontEndContext& ctx);
+                           const GnssFrontEnd& gnss, FrontEndContext& ctx);
 
   Claim Claims(const Measurement&) const override { return Claim::kOtherKind; }
   void Process(const Measurement&) override {}
@@ -32,6 +35,7 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   const FactorPlan& plan_;
   const FactorGraphOptions& options_;
   const EncoderFrontEnd& encoders_;
+  const GnssFrontEnd& gnss_;
   FrontEndContext& ctx_;
   std::deque<ImuSample> recent_imu_;  // released samples over the zero-velocity window
   TimeNs next_nhc_ns_ = INT64_MIN;

@@ -98,20 +98,32 @@ struct NonHolonomicOptions {
 };
 
 // Zero-velocity factor when the vehicle stands still: the IMU is quiet over window_s (per-axis
-// standard deviations below the thresholds) and the speed encoder, when there is one, reads
-// zero; without an encoder the estimated speed must also be below max_estimated_speed_mps (a
-// quiet IMU alone cannot tell standing from cruising) and the acceleration the IMU measures
-// (mean specific force rotated to the world with the estimated attitude, bias and gravity
-// removed) below max_acceleration_mps2: a smooth start from a stop keeps the IMU quiet, and the
-// factor would otherwise hold the speed it is tested on at zero while the vehicle drives off.
+// standard deviations below the thresholds, of the raw samples or, with an engine running, of
+// their low band below ~3 Hz: imu_band_split.hpp, lowpass_s) and a speed reading says so: the
+// speed encoder, when there is one, reads zero; else the receiver's Doppler velocity, when it
+// gives one, averages below max_doppler_speed_mps over doppler_window_s; else the estimated
+// speed is below max_estimated_speed_mps (a quiet IMU alone cannot tell standing from
+// cruising). Without an encoder the acceleration the IMU measures (mean specific force rotated
+// to the world with the estimated attitude, bias and gravity removed) must also be below
+// max_acceleration_mps2: a smooth start from a stop keeps the IMU quiet, and the factor would
+// otherwise hold the speed it is tested on at zero while the vehicle drives off.
 struct ZeroVelocityOptions {
   bool enabled = true;
   double rate_hz = 10.0;
   double window_s = 0.3;
   double max_gyro_std_radps = 0.005;
   double max_accel_std_mps2 = 0.06;
+  // The low band's filter: two moving averages of lowpass_s (0: the raw samples only).
+  double lowpass_s = 0.1;
   double max_encoder_speed_mps = 0.005;
+  // The mean of the Doppler velocities (horizontal, ENU) over the window: a 4 Hz receiver with
+  // 0.07 m/s per axis gives 4 readings a second, their mean 0.035 m/s.
+  double doppler_window_s = 1.0;
+  double max_doppler_speed_mps = 0.2;
+  // Without an encoder or Doppler: the estimated speed below max_estimated_speed_mps plus this
+  // many of its sigmas (0: below max_estimated_speed_mps only).
   double max_estimated_speed_mps = 0.3;
+  double estimated_speed_sigmas = 3.0;
   double max_acceleration_mps2 = 0.3;
   double sigma_mps = 0.005;
   // Without an encoder the test cannot rule out a creep below max_estimated_speed_mps: the

@@ -44,6 +44,12 @@ SlidingWindowSmoother::~SlidingWindowSmoother() = default;
 
 bool SlidingWindowSmoother::initialized() const { return !impl_->states.empty(); }
 
+void SlidingWindowSmoother::SetImuNoise(const ImuNoise& noise) {
+  std::string why;
+  if (!noise.IsValid(&why)) throw InputError(why);
+  impl_->options.imu_noise = noise;
+}
+
 void SlidingWindowSmoother::AddImu(const ImuSample& sample) {
   Impl& m = *impl_;
   if (!sample.gyro.allFinite() || !sample.accel.allFinite()) {

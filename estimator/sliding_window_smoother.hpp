@@ -119,6 +119,10 @@ class SlidingWindowSmoother {
   AddResult AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps, double sigma_radps,
                         const RobustKernel& kernel);
 
+  // The IMU noise of the IMU, bias and GNSS-propagation factors created from now on (those in
+  // the window keep theirs). InputError if it is not valid.
+  void SetImuNoise(const ImuNoise& noise);
+
   // Optimises the window, then marginalises the states that left it.
   SmootherSolveSummary Solve();
 

@@ -6,6 +6,7 @@
 
 #include "core/so3.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "estimator/imu_window_statistics.hpp"
 
 namespace statebench::est {
 namespace {
@@ -80,16 +81,38 @@ void StateInitializer::AddHeading(const DualAntennaHeading& heading, const Vec3&
 }
 
 void StateInitializer::UpdateStill() {
-  const TimeNs t_end = imu_.back().header.stamp_ns;
+  TimeNs t_end = imu_.back().header.stamp_ns;
   const TimeNs t_begin = t_end - FromSeconds(options_.static_duration_s);
   if (imu_.front().header.stamp_ns > t_begin) return;  // not enough data yet
   const auto first =
       std::lower_bound(imu_.begin(), imu_.end(), t_begin,
                        [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
-  const std::span<const ImuSample> window(first, imu_.end());
+  std::span<const ImuSample> window(first, imu_.end());
   if (window.size() < 2) return;
-  const Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
-  const Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  Moments gyro = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; });
+  Moments accel = ComputeMoments(window, [](const ImuSample& s) { return s.accel; });
+  // An engine running: the window is still when its low band is quiet to half the thresholds
+  // (the stds tested and reported are then the low band's over that share; else the raw ones).
+  if (options_.static_lowpass_s > 0.0 &&
+      (gyro.std.maxCoeff() > options_.static_max_gyro_std_radps ||
+       accel.std.maxCoeff() > options_.static_max_accel_std_mps2)) {
+    const ImuBands bands = SplitImuBands(window, options_.static_lowpass_s);
+    const Vec3 low_gyro = bands.gyro.lowpass_std / kLowBandThresholdShare;
+    const Vec3 low_accel = bands.accel.lowpass_std / kLowBandThresholdShare;
+    if (bands.valid() && !(low_gyro.maxCoeff() > options_.static_max_gyro_std_radps) &&
+        !(low_accel.maxCoeff() > options_.static_max_accel_std_mps2)) {
+      // The low band sees the window's newest (and oldest) taps - 1 samples only faintly: a
+      // start of motion there would pass it. The still period is the samples it centres on, and
+      // its means theirs.
+      const std::size_t edge = static_cast<std::size_t>(bands.taps - 1);
+      window = window.subspan(edge, window.size() - 2 * edge);
+      t_end = window.back().header.stamp_ns;
+      gyro.mean = ComputeMoments(window, [](const ImuSample& s) { return s.gyro; }).mean;
+      accel.mean = ComputeMoments(window, [](const ImuSample& s) { return s.accel; }).mean;
+      gyro.std = low_gyro;
+      accel.std = low_accel;
+    }
+  }
   const double gravity_error = std::abs(accel.mean.norm() - kGravity);
   const double score = std::max({gyro.std.maxCoeff() / options_.static_max_gyro_std_radps,
                                  accel.std.maxCoeff() / options_.static_max_accel_std_mps2,
