@@ -238,6 +238,7 @@ std::vector<EstimatorScore> EstimatorFeed::Finish() {
       availability["span_begin_s"] = ToSeconds(scorer_->span_begin_ns().value_or(0));
       availability["span_imu_stamps"] = a.span_epochs;
       availability["span_finite_estimates"] = a.span_finite_estimates;
+      availability["span_local_estimates"] = a.span_local_estimates;
       availability["span_fraction"] = a.SpanFraction();
     }
     s.metrics_json["availability"] = availability;

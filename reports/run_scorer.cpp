@@ -9,6 +9,11 @@ bool Finite(const NavState& s) {
   return s.p_world.allFinite() && s.v_world.allFinite() && s.q_world_imu.coeffs().allFinite();
 }
 
+// Comparable with the truth: finite and in the world frame (a local frame's estimate is not).
+bool InWorldFrame(const NavState& s, EstimateStatus status) {
+  return Finite(s) && status != EstimateStatus::kLocal;
+}
+
 double Ratio(std::size_t a, std::size_t b) {
   return b > 0 ? static_cast<double>(a) / static_cast<double>(b) : 0.0;
 }
@@ -54,8 +59,10 @@ void RunScorer::AddEpoch(TimeNs t_ns,
     const NavState& s = estimates[k]->state;
     if (Finite(s)) {
       ++a.finite_estimates;
-      if (!estimators_[k].first_finite_ns) estimators_[k].first_finite_ns = t_ns;
       if (!first_epoch_ns_) first_epoch_ns_ = t_ns;
+    }
+    if (InWorldFrame(s, estimates[k]->status) && !estimators_[k].first_world_ns) {
+      estimators_[k].first_world_ns = t_ns;
     }
     const Mat15& P = estimates[k]->covariance;
     epoch.estimates[k] = Compact{s, estimates[k]->status, P.topLeftCorner<6, 6>(),
@@ -95,11 +102,11 @@ void RunScorer::DecideSpan(TimeNs now_ns, bool at_end) {
   if (span_begin_ns_ || !first_epoch_ns_) return;
   const bool all_started =
       std::all_of(estimators_.begin(), estimators_.end(),
-                  [](const PerEstimator& e) { return e.first_finite_ns.has_value(); });
+                  [](const PerEstimator& e) { return e.first_world_ns.has_value(); });
   if (!all_started && !at_end && now_ns - *first_epoch_ns_ < options_.span_wait_ns) return;
   TimeNs begin = *first_epoch_ns_;
   for (const PerEstimator& e : estimators_) {
-    if (e.first_finite_ns) begin = std::max(begin, *e.first_finite_ns);
+    if (e.first_world_ns) begin = std::max(begin, *e.first_world_ns);
   }
   span_begin_ns_ = begin;
   for (const auto& [epoch, reference] : before_span_) Score(epoch, reference);
@@ -113,7 +120,7 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
     std::vector<std::optional<EpochErrors>> errors(estimators_.size());
     for (std::size_t k = 0; k < estimators_.size(); ++k) {
       const std::optional<Compact>& c = epoch.estimates[k];
-      if (!in_span || !c || !Finite(c->state)) continue;
+      if (!in_span || !c || !InWorldFrame(c->state, c->status)) continue;
       errors[k] = EpochErrorsOf(c->state, c->status, c->pose_covariance, c->velocity_covariance,
                                 *reference);
     }
@@ -122,20 +129,21 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     PerEstimator& e = estimators_[k];
     const std::optional<Compact>& c = epoch.estimates[k];
+    const bool local = c && c->status == EstimateStatus::kLocal;
     if (in_span) {
       ++e.availability.span_epochs;
-      if (c && Finite(c->state)) ++e.availability.span_finite_estimates;
+      if (c && local) ++e.availability.span_local_estimates;
+      if (c && InWorldFrame(c->state, c->status)) ++e.availability.span_finite_estimates;
     }
     // No estimate at this epoch, or a change of frame (a local start moved into ENU): no output
     // step across it.
-    const bool local = c && c->status == EstimateStatus::kLocal;
     if (!c || local != e.last_local) {
       e.scorer.Break();
       for (TrajectoryScorer& w : e.outage_scorers) w.Break();
     }
     e.last_local = local;
     if (!c) continue;
-    if (!in_span) {
+    if (!in_span || local) {
       e.scorer.Skip();
       continue;
     }

@@ -1,10 +1,14 @@
 // Scores every estimator of one run against the truth while the run goes, over one common span,
 // in memory that does not grow with the run's length.
 //
-// The span: from the latest first estimate of the run's estimators to the end of the truth. It
-// is decided once every estimator has given a finite estimate, or `span_wait_ns` after the first
-// output epoch, whichever comes first; an estimator that starts later than that is scored from
-// the span's start all the same, its missing epochs counted as unavailable. Until the span is
+// The span: from the latest first world-frame estimate of the run's estimators to the end of the
+// truth. It is decided once every estimator has given a finite estimate in the world frame, or
+// `span_wait_ns` after the first output epoch, whichever comes first; an estimator that starts
+// later than that is scored from the span's start all the same, its missing epochs counted as
+// unavailable. An estimate with the status `local` (a local frame: no GNSS in the setup, or a
+// factor graph that started before its fixes gave the yaw) is not in the truth's frame and is
+// never compared with it: before the span it is skipped like any other, inside it counted as
+// `span_local_estimates`, not as a finite estimate, and skipped. Until the span is
 // decided the paired epochs are held (state, pose and velocity covariance, ~0.6 KB per estimator
 // and epoch; 2 minutes at most). So no estimator is scored over an easier stretch than
 // another, and what an estimator did not deliver is counted, not hidden.
@@ -37,7 +41,8 @@ struct Availability {
   std::size_t estimates = 0;          // epochs with an estimate
   std::size_t finite_estimates = 0;   // ... with a finite mean
   std::size_t span_epochs = 0;        // epochs inside the scored span
-  std::size_t span_finite_estimates = 0;
+  std::size_t span_finite_estimates = 0;  // ... finite and in the world frame
+  std::size_t span_local_estimates = 0;   // ... in a local frame (not compared)
   double Fraction() const;            // finite_estimates / epochs
   double SpanFraction() const;        // span_finite_estimates / span_epochs
 };
@@ -69,7 +74,7 @@ class RunScorer {
   // estimator.
   std::vector<RunScore> Finish();
 
-  // The span's start once decided (the latest first estimate), nullopt before.
+  // The span's start once decided (the latest first world-frame estimate), nullopt before.
   std::optional<TimeNs> span_begin_ns() const { return span_begin_ns_; }
 
  private:
@@ -88,7 +93,7 @@ class RunScorer {
     TrajectoryScorer scorer;
     std::vector<TrajectoryScorer> outage_scorers;
     Availability availability;
-    std::optional<TimeNs> first_finite_ns;
+    std::optional<TimeNs> first_world_ns;  // the first finite estimate not in a local frame
     bool last_local = false;  // the last estimate's status was local
   };
 

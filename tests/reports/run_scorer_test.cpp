@@ -104,5 +104,53 @@ TEST(RunScorer, NonFiniteEstimatesAreUnavailableAndNotScored) {
   EXPECT_TRUE(std::isfinite(s.metrics.rmse_x_m));
 }
 
+// A factor graph that starts in a local frame (status `local`: its own origin at the first state,
+// x along the vehicle's heading) and moves into ENU at 3 s, as setup 2's does with a speed
+// encoder and a CEP 2 m receiver. Its local estimates lie 100 m and 90 deg from the truth: they
+// are not in the truth's frame and must not be compared with it. The span begins at the first
+// ENU estimate.
+TEST(RunScorer, LocalFrameEstimatesAreNotComparedWithTheTruth) {
+  RunScorer scorer(1, SE3(), {});
+  for (TimeNs t = 0; t <= 10'000 * kMs; t += kMs) scorer.AddTruth(Truth(t));
+  for (TimeNs t = 1000 * kMs; t <= 10'000 * kMs; t += 10 * kMs) {
+    StateEstimate e = Estimate(t, 0.1);
+    if (t < 3000 * kMs) {
+      e.status = EstimateStatus::kLocal;
+      e.state.p_world = Vec3(0.0, 5.0 * ToSeconds(t - 1000 * kMs), 0.0) - Vec3(60, 80, 0);
+      e.state.q_world_imu = Quat(Eigen::AngleAxisd(0.5 * M_PI, Vec3::UnitZ()));
+    }
+    scorer.AddEpoch(t, {e});
+  }
+  const RunScore s = scorer.Finish().front();
+  EXPECT_EQ(s.metrics.skipped, 200u);  // 1 s .. 2.99 s, local
+  EXPECT_EQ(s.metrics.compared, 701u);
+  EXPECT_NEAR(s.metrics.rmse_y_m, 0.1, 1e-9);
+  EXPECT_NEAR(s.metrics.rmse_x_m, 0.0, 1e-9);
+  EXPECT_EQ(s.availability.span_epochs, 701u);
+  EXPECT_EQ(s.availability.span_finite_estimates, 701u);
+  EXPECT_EQ(s.availability.span_local_estimates, 0u);
+  EXPECT_EQ(s.availability.finite_estimates, 901u);
+}
+
+// An estimator that never leaves its local frame (no GNSS) while another is in ENU: the span
+// begins with the ENU one; the local estimates inside it are counted, not compared.
+TEST(RunScorer, AnEstimatorStillLocalInsideTheSpanIsCountedNotCompared) {
+  RunScorer scorer(2, SE3(), {});
+  for (TimeNs t = 0; t <= 2000 * kMs; t += kMs) scorer.AddTruth(Truth(t));
+  for (TimeNs t = 0; t <= 2000 * kMs; t += 10 * kMs) {
+    StateEstimate local = Estimate(t, 50.0);
+    local.status = EstimateStatus::kLocal;
+    scorer.AddEpoch(t, {Estimate(t, 0.1), local});
+  }
+  const std::vector<RunScore> s = scorer.Finish();
+  EXPECT_EQ(s[0].metrics.compared, 201u);
+  EXPECT_EQ(s[1].metrics.compared, 0u);
+  EXPECT_EQ(s[1].metrics.skipped, 201u);
+  EXPECT_EQ(s[1].availability.span_epochs, 201u);
+  EXPECT_EQ(s[1].availability.span_local_estimates, 201u);
+  EXPECT_EQ(s[1].availability.span_finite_estimates, 0u);
+  EXPECT_EQ(s[1].availability.finite_estimates, 201u);
+}
+
 }  // namespace
 }  // namespace statebench::reports
