@@ -93,7 +93,8 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
     HeldEpoch held{imu->header.stamp_ns, imu->gyro, {}};
     for (std::size_t k = 0; k < estimators_.size(); ++k) {
       if (!estimators_[k].estimator->EstimatesAtEnd()) {
-        held.live.push_back(HeldEstimate::Of(epoch_[k]));
+        held.live.push_back(epoch_[k] ? std::optional(reports::ScoredEstimate::Of(*epoch_[k]))
+                                      : std::nullopt);
       }
     }
     held_.push_back(std::move(held));
@@ -102,25 +103,6 @@ std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
     scorer_->AddEpoch(imu->header.stamp_ns, epoch_);
   }
   return imu->header.stamp_ns;
-}
-
-std::optional<EstimatorFeed::HeldEstimate> EstimatorFeed::HeldEstimate::Of(
-    const std::optional<StateEstimate>& e) {
-  if (!e) return std::nullopt;
-  return HeldEstimate{e->status, e->state, e->covariance.topLeftCorner<6, 6>(),
-                      e->covariance.block<3, 3>(kVelocityIndex, kVelocityIndex)};
-}
-
-std::optional<StateEstimate> EstimatorFeed::HeldEstimate::Restore(
-    const std::optional<HeldEstimate>& h) {
-  if (!h) return std::nullopt;
-  StateEstimate e;
-  e.status = h->status;
-  e.state = h->state;
-  e.covariance.setZero();
-  e.covariance.topLeftCorner<6, 6>() = h->pose_covariance;
-  e.covariance.block<3, 3>(kVelocityIndex, kVelocityIndex) = h->velocity_covariance;
-  return e;
 }
 
 bool EstimatorFeed::EstimatesAtEnd() const {
@@ -169,7 +151,8 @@ void EstimatorFeed::ReplayHeldEpochs() {
     for (std::size_t k = 0; k < estimators_.size(); ++k) {
       FedEstimator& f = estimators_[k];
       if (!f.estimator->EstimatesAtEnd()) {
-        epoch_[k] = HeldEstimate::Restore(held.live[live++]);
+        const std::optional<reports::ScoredEstimate>& h = held.live[live++];
+        epoch_[k] = h ? std::optional(h->ToStateEstimate()) : std::nullopt;
         continue;
       }
       const StageScope stage(Stage::kEstimators);

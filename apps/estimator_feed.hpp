@@ -94,20 +94,10 @@ class EstimatorFeed {
   std::vector<FedEstimator>& estimators() { return estimators_; }
 
  private:
-  // What the scorer reads of an estimate (reports/run_scorer.hpp): the state, its status, the
-  // pose and velocity covariance blocks; about 0.5 KB instead of 2.
-  struct HeldEstimate {
-    EstimateStatus status;
-    NavState state;
-    Mat6 pose_covariance;
-    Mat3 velocity_covariance;
-    static std::optional<HeldEstimate> Of(const std::optional<StateEstimate>& e);
-    static std::optional<StateEstimate> Restore(const std::optional<HeldEstimate>& h);
-  };
   struct HeldEpoch {
     TimeNs t_ns = 0;
     Vec3 gyro;
-    std::vector<std::optional<HeldEstimate>> live;  // of the others, in their order
+    std::vector<std::optional<reports::ScoredEstimate>> live;  // of the others, in their order
   };
   // Re-expresses, meters, writes and counts an estimate; returns it (nullopt when none).
   std::optional<StateEstimate> Present(FedEstimator& f, std::optional<StateEstimate> e,

@@ -64,9 +64,7 @@ void RunScorer::AddEpoch(TimeNs t_ns,
     if (InWorldFrame(s, estimates[k]->status) && !estimators_[k].first_world_ns) {
       estimators_[k].first_world_ns = t_ns;
     }
-    const Mat15& P = estimates[k]->covariance;
-    epoch.estimates[k] = Compact{s, estimates[k]->status, P.topLeftCorner<6, 6>(),
-                                 P.block<3, 3>(kVelocityIndex, kVelocityIndex)};
+    epoch.estimates[k] = ScoredEstimate::Of(*estimates[k]);
     any = true;
   }
   DecideSpan(t_ns, false);
@@ -119,7 +117,7 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
   if (observer_ && reference) {
     std::vector<std::optional<EpochErrors>> errors(estimators_.size());
     for (std::size_t k = 0; k < estimators_.size(); ++k) {
-      const std::optional<Compact>& c = epoch.estimates[k];
+      const std::optional<ScoredEstimate>& c = epoch.estimates[k];
       if (!in_span || !c || !InWorldFrame(c->state, c->status)) continue;
       errors[k] = EpochErrorsOf(c->state, c->status, c->pose_covariance, c->velocity_covariance,
                                 *reference);
@@ -128,7 +126,7 @@ void RunScorer::Score(const Epoch& epoch, const std::optional<ReferenceState>& r
   }
   for (std::size_t k = 0; k < estimators_.size(); ++k) {
     PerEstimator& e = estimators_[k];
-    const std::optional<Compact>& c = epoch.estimates[k];
+    const std::optional<ScoredEstimate>& c = epoch.estimates[k];
     const bool local = c && c->status == EstimateStatus::kLocal;
     if (in_span) {
       ++e.availability.span_epochs;

@@ -53,6 +53,31 @@ struct RunScore {
   Availability availability;
 };
 
+// What the scorer reads of an estimate (~0.5 KB instead of a StateEstimate's 2): the state, its
+// status, the pose and velocity covariance blocks. Also what a run holds of an estimate until
+// the scorer takes it (apps/estimator_feed.hpp).
+struct ScoredEstimate {
+  NavState state;
+  EstimateStatus status;
+  Mat6 pose_covariance;
+  Mat3 velocity_covariance;
+
+  static ScoredEstimate Of(const StateEstimate& e) {
+    return {e.state, e.status, e.covariance.topLeftCorner<6, 6>(),
+            e.covariance.block<3, 3>(kVelocityIndex, kVelocityIndex)};
+  }
+  // Back to an estimate: the other covariance blocks zero (the scorer does not read them).
+  StateEstimate ToStateEstimate() const {
+    StateEstimate e;
+    e.status = status;
+    e.state = state;
+    e.covariance.setZero();
+    e.covariance.topLeftCorner<6, 6>() = pose_covariance;
+    e.covariance.block<3, 3>(kVelocityIndex, kVelocityIndex) = velocity_covariance;
+    return e;
+  }
+};
+
 class RunScorer {
  public:
   RunScorer(std::size_t estimators, const SE3& T_body_frame, RunScoringOptions options);
@@ -78,16 +103,9 @@ class RunScorer {
   std::optional<TimeNs> span_begin_ns() const { return span_begin_ns_; }
 
  private:
-  // What the scorers need of one estimate.
-  struct Compact {
-    NavState state;
-    EstimateStatus status;
-    Mat6 pose_covariance;
-    Mat3 velocity_covariance;
-  };
   struct Epoch {
     TimeNs t_ns = 0;
-    std::vector<std::optional<Compact>> estimates;
+    std::vector<std::optional<ScoredEstimate>> estimates;
   };
   struct PerEstimator {
     TrajectoryScorer scorer;
