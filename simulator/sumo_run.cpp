@@ -289,6 +289,11 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
                                    "' (departure position blocked?)");
         }
         libsumo::Vehicle::setLaneChangeMode(kEgoId, 0);  // no lane changes of any kind
+        if (scenario.ego.parked_s > 0.0) libsumo::Vehicle::setSpeed(kEgoId, 0.0);
+      }
+      if (scenario.ego.parked_s > 0.0 && t_s < scenario.ego.parked_s &&
+          t_s + dt >= scenario.ego.parked_s - 1e-9) {
+        libsumo::Vehicle::setSpeed(kEgoId, -1.0);  // the driver model takes over at parked_s
       }
       if (Contains(Simulation::getStartingTeleportIDList(), kEgoId)) {
         scenario.ego.source.Fail("the ego got stuck at t = " + FormatNumber(t_s) +
