@@ -75,6 +75,28 @@ std::optional<EkfCourseStart::Course> EkfCourseStart::AddFix(TimeNs t_ns, const 
   return course;
 }
 
+std::optional<EkfCourseStart::Course> EkfCourseStart::FromVelocity(const Vec2& v_enu,
+                                                                  double sigma_h,
+                                                                  const Vec3& p_body_antenna,
+                                                                  double yaw_rate_radps,
+                                                                  double min_speed_mps) {
+  const double speed = v_enu.norm();
+  if (!std::isfinite(speed) || !(sigma_h >= 0.0) ||
+      speed < std::max(min_speed_mps, 10.0 * sigma_h)) {
+    return std::nullopt;
+  }
+  const double lateral = yaw_rate_radps * p_body_antenna.x();
+  if (!(std::abs(lateral) < speed)) return std::nullopt;
+  const double vx = std::sqrt(speed * speed - lateral * lateral) + yaw_rate_radps * p_body_antenna.y();
+  Course c;
+  c.yaw_rad = std::atan2(v_enu.y(), v_enu.x()) -
+              std::atan2(lateral, vx - yaw_rate_radps * p_body_antenna.y());
+  c.yaw_variance = sigma_h * sigma_h / (speed * speed);
+  c.speed_mps = vx;
+  c.speed_variance = sigma_h * sigma_h;
+  return c;
+}
+
 void EkfCourseStart::Reset() {
   fixes_.clear();
   longest_chord_m_ = needed_m_ = 0.0;

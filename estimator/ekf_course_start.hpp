@@ -49,6 +49,15 @@ class EkfCourseStart {
 
   void Reset();
 
+  // The course from a fix's Doppler velocity of the antenna (ENU, sigma_h its horizontal sigma)
+  // once its horizontal speed is above max(min_speed_mps, 10 sigma_h): the antenna at
+  // p_body_antenna moves at (vx - r l_y, r l_x) in the body frame (no side slip, r the body-z
+  // rate), so the yaw is the velocity's direction less that vector's angle, and
+  // vx = sqrt(|v|^2 - (r l_x)^2) + r l_y.
+  static std::optional<Course> FromVelocity(const Vec2& v_enu, double sigma_h,
+                                            const Vec3& p_body_antenna, double yaw_rate_radps,
+                                            double min_speed_mps);
+
   bool has_fix() const { return !fixes_.empty(); }
   // The longest chord from the newest fix within the history, and the length it needed (for
   // "waiting for" messages).

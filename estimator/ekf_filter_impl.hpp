@@ -84,6 +84,7 @@ struct EkfSingleTrackEstimator::Impl {
 
   // Inputs (held).
   double accel_x = 0.0;  // body x specific force at the IMU
+  double gyro_z = 0.0;   // body z rate (raw) of the newest IMU sample
   double steering = 0.0;
   std::optional<double> encoder_speed;
 

@@ -156,9 +156,21 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
                                                   const GnssPositionEnu& fix) {
   if (id != course_antenna) return;
   const Mat3 cov_now = AdjustedCovariance(fix.covariance, info);
-  const std::optional<EkfCourseStart::Course> course =
+  std::optional<EkfCourseStart::Course> course =
       course_start.AddFix(fix.header.stamp_ns, fix.p_enu, cov_now, options.course_min_distance_m,
                           options.course_max_yaw_sigma_rad);
+  // The receiver's Doppler velocity, when it gives one, starts sooner and points better.
+  const std::optional<EkfCourseStart::Course> velocity_course =
+      fix.velocity ? EkfCourseStart::FromVelocity(fix.velocity->v_enu.head<2>(),
+                                                  fix.velocity->sigma_enu.head<2>().maxCoeff(),
+                                                  info.p_body_sensor, gyro_z,
+                                                  options.velocity_course_min_speed_mps)
+                   : std::nullopt;
+  const char* how = "moving (gnss course)";
+  if (velocity_course && (!course || velocity_course->yaw_variance < course->yaw_variance)) {
+    course = velocity_course;
+    how = "moving (gnss velocity)";
+  }
   if (!course) return;
   double yaw = course->yaw_rad;
   double speed = course->speed_mps;
@@ -194,7 +206,7 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
   t_ns = fix.header.stamp_ns;
   initialized = true;
   initialized_ns = t_ns;
-  diag.Initialized(t_ns, "moving (gnss course)");
+  diag.Initialized(t_ns, how);
   if (last_imu_ns) {
     Propagate(*last_imu_ns);
     PushHistory();

@@ -57,6 +57,8 @@ const OptionTable<EkfOptions>& EkfOptionTable() {
                 "GNSS displacement of the course initialisation")
         .Number("course_max_yaw_sigma_rad", &E::course_max_yaw_sigma_rad, p,
                 "wait for this GNSS course precision")
+        .Number("velocity_course_min_speed_mps", &E::velocity_course_min_speed_mps, p,
+                "a fix's Doppler velocity gives the course from this speed (and 10 sigma) on")
         .Number("init_yaw_sigma_rad", &E::init_yaw_sigma_rad, p, "added to the course sigma")
         .Number("init_speed_sigma_mps", &E::init_speed_sigma_mps, p, "initial speed sigma")
         .Number("init_gyro_bias_sigma_radps", &E::init_gyro_bias_sigma_radps, p, "prior")

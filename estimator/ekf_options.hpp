@@ -52,6 +52,8 @@ struct EkfOptions {
   // Initialisation (from GNSS course and encoder speed).
   double course_min_distance_m = 5.0;
   double course_max_yaw_sigma_rad = 0.15;  // wait for this GNSS course precision (chord)
+  // A fix's Doppler velocity gives the course from this horizontal speed (and 10 sigma) on.
+  double velocity_course_min_speed_mps = 1.0;
   double init_yaw_sigma_rad = 0.1;         // slip, chord vs tangent; added to the GNSS part
   double init_speed_sigma_mps = 0.5;
   double init_gyro_bias_sigma_radps = 0.01;

@@ -124,5 +124,22 @@ TEST(EkfCourseStart, ParkedThenDrivingOffWithoutEncoders) {
   }
 }
 
+// The Doppler course: the antenna ahead of and beside the body origin moves at
+// (vx - r l_y, r l_x) in the body frame; yaw and speed come back exactly.
+TEST(EkfCourseStart, CourseFromTheAntennasDopplerVelocity) {
+  const Vec3 lever(0.8, 0.1, 1.4);
+  const double yaw = 1.0, vx = 5.0, r = 0.3;
+  const Vec2 v_body(vx - r * lever.y(), r * lever.x());
+  const Vec2 v_enu = Eigen::Rotation2Dd(yaw).toRotationMatrix() * v_body;
+  const auto course = EkfCourseStart::FromVelocity(v_enu, 0.07, lever, r, 1.0);
+  ASSERT_TRUE(course.has_value());
+  EXPECT_NEAR(course->yaw_rad, yaw, 1e-12);
+  EXPECT_NEAR(course->speed_mps, vx, 1e-12);
+  EXPECT_NEAR(course->yaw_variance, 0.07 * 0.07 / v_enu.squaredNorm(), 1e-15);
+  // Too slow for its noise (10 sigma), or under the minimum speed.
+  EXPECT_FALSE(EkfCourseStart::FromVelocity(v_enu, 0.6, lever, r, 1.0));
+  EXPECT_FALSE(EkfCourseStart::FromVelocity(0.1 * v_enu, 0.01, lever, r, 1.0));
+}
+
 }  // namespace
 }  // namespace statebench::est
