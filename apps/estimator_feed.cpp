@@ -64,6 +64,12 @@ void EstimatorFeed::AddTruth(const TruthSample& sample) {
   scorer_->AddTruth(sample);
 }
 
+void EstimatorFeed::AddTruth(std::span<const TruthSample> samples) {
+  if (!scorer_) return;
+  const StageScope stage(Stage::kScoring);
+  for (const TruthSample& s : samples) scorer_->AddTruth(s);
+}
+
 std::optional<TimeNs> EstimatorFeed::Feed(const Measurement& m) {
   const StageScope stage(Stage::kEstimators);
   const auto* imu = std::get_if<ImuSample>(&m);

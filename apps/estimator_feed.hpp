@@ -14,6 +14,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,9 @@ class EstimatorFeed {
   void WriteDetails(const std::filesystem::path& run_dir);
   // A truth sample (stamps increasing; ahead of the measurements or behind them).
   void AddTruth(const TruthSample& sample);
+  // The same for several samples in one stage switch (a long truth read in blocks: the two
+  // clock reads of a switch per 1 kHz sample were a visible share of estimate's CPU).
+  void AddTruth(std::span<const TruthSample> samples);
 
   // Hands m to every estimator; returns the stamp when m is a sample of the setup's IMU (an
   // output epoch).

@@ -13,8 +13,19 @@
 // w_meas is the raw gyro at the stamp; b_g the anchor state's gyro bias. S (3x3) may be
 // rank-deficient: the non-holonomic factor only constrains y and z.
 //
-// Parameter blocks: q (4), v (3), bias (6) of the anchor state; p does not enter. Jacobians by
-// automatic differentiation.
+// Parameter blocks: q (4), v (3), bias (6) of the anchor state; p does not enter.
+//
+// Analytic Jacobians (they were automatic differentiation with 13-wide jets, a visible share of
+// the window solve). With R_t = R_i E, E = dR(bg) = dR Exp(J_R_bg dbg), the right perturbation
+// R_i Exp(theta), and dR(bg + d) = E Exp(J_eps d), J_eps = Jr(J_R_bg dbg) J_R_bg:
+//   vehicle frame, a = R_i^T (v_i + g tau), u = E^T (a + dv(b)) = R_t^T v_t:
+//     d/dtheta = E^T [a]x,  d/dv_i = R_t^T,  d/dbg = [u]x J_eps + E^T J_v_bg + [p]x,
+//     d/dba = E^T J_v_ba,  each times R_imu_frame^T;
+//   world frame, c = (w_meas - b_g) x p_imu_point:
+//     d/dtheta = -R_i [dv(b) + E c]x,  d/dv_i = I,
+//     d/dbg = R_i J_v_bg - R_t [c]x J_eps + R_t [p]x,  d/dba = R_i J_v_ba;
+// then times S. tests/estimator/body_velocity_factor_test.cpp checks them against numeric
+// differences on the manifold.
 #pragma once
 
 #include <ceres/cost_function.h>

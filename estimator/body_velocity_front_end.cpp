@@ -98,8 +98,8 @@ void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {
   const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
   if (!window.Quiet(z)) return;
   const Vec3& mean_g = window.mean_gyro;
-  const auto predicted = ctx_.PredictAt(t_ns);
-  if (!predicted || (mean_g - predicted->state.gyro_bias).norm() > kMaxStillRateRadps) return;
+  const std::optional<NavState> predicted = ctx_.PredictMeanAt(t_ns);
+  if (!predicted || (mean_g - predicted->gyro_bias).norm() > kMaxStillRateRadps) return;
   const double span_s = ToSeconds(recent_imu_.back().header.stamp_ns - *zero_since_ns_);
   if (!(span_s > 0.0)) return;
   // The noise in use: the datasheet's, or the measured one above it (imu_noise_monitor.hpp).

@@ -109,6 +109,13 @@ class FrontEndContext {
     const std::vector<NavState> window = smoother.WindowStates();
     return output.InWindow(t_ns, window);
   }
+  // PredictAt's mean alone, the same bits, without carrying the covariance where it can be
+  // left out (after the anchor), for the front ends that read only the mean.
+  std::optional<NavState> PredictMeanAt(TimeNs t_ns) const {
+    if (const auto mean = output.MeanAfterAnchor(t_ns)) return mean;
+    if (const auto p = PredictAt(t_ns)) return p->state;
+    return std::nullopt;
+  }
 
   SensorCounters& Counters(const std::string& id) { return diag.sensors[id]; }
   VerdictObserver verdicts;  // optional (Estimator::SetVerdictObserver)

@@ -176,9 +176,9 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
 void GnssFrontEnd::AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
   const std::string& id = fix.header.sensor_id;
   const TimeNs t = fix.header.stamp_ns;
-  const std::optional<PropagatedState> predicted = ctx_.PredictAt(t);
+  const std::optional<NavState> predicted = ctx_.PredictMeanAt(t);
   if (!predicted) return ctx_.Reject(id, t, RejectReason::kTooOld);
-  const NavState& x = predicted->state;
+  const NavState& x = *predicted;
   alignment_.Add(t, x.p_world + x.q_world_imu * p_imu_antenna, fix.p_enu, fix.covariance);
   ctx_.Accept(id, t);
   ctx_.Count(id, "enu_alignment");

@@ -67,6 +67,15 @@ std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
   return Propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns));
 }
 
+std::optional<NavState> ImuRateOutput::MeanAfterAnchor(TimeNs t_ns) const {
+  if (!anchor_ || t_ns < anchor_->state.t_ns || t_ns > imu_.back().header.stamp_ns) {
+    return std::nullopt;
+  }
+  // Propagate's mean: the anchor itself over an empty interval, else the prediction.
+  const ImuPreintegration& pim = t_ns == running_->end_ns() ? *running_ : FromAnchorTo(t_ns);
+  return pim.empty() ? anchor_->state : pim.Predict(anchor_->state);
+}
+
 std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,
                                                        std::span<const NavState> window) const {
   if (anchors_.empty() || imu_.empty() || t_ns < imu_.front().header.stamp_ns) return std::nullopt;

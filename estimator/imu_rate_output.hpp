@@ -41,6 +41,8 @@ class ImuRateOutput {
 
   // Mean and covariance at t_ns in [anchor, newest sample]; nullopt outside.
   std::optional<PropagatedState> AfterAnchor(TimeNs t_ns) const;
+  // AfterAnchor's mean alone (the same bits; no covariance propagated).
+  std::optional<NavState> MeanAfterAnchor(TimeNs t_ns) const;
   // At t_ns before the anchor, from the smoothed window states (oldest first); nullopt if t_ns
   // is before the first of them or the samples held.
   std::optional<PropagatedState> InWindow(TimeNs t_ns, std::span<const NavState> window) const;

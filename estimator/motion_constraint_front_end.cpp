@@ -51,7 +51,7 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   m.q_imu_frame = plan_.T_imu_axle.rotation();
   // Side slip grows with the lateral acceleration v * omega.
   double speed = 0.0;
-  if (const auto p = ctx_.PredictAt(t)) speed = p->state.v_world.norm();
+  if (const auto x = ctx_.PredictMeanAt(t)) speed = x->v_world.norm();
   const double yaw_rate = (plan_.T_imu_axle.rotation().conjugate() * s.gyro).z();
   const double lateral_sigma =
       nhc.lateral_sigma_mps + nhc.slip_per_lateral_accel * speed * speed * std::abs(yaw_rate);
@@ -98,16 +98,16 @@ bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
     return last && t_ns - last->first < FromSeconds(0.5) &&
            encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
   }
-  const auto predicted = ctx_.PredictAt(t_ns);
-  if (!predicted) return false;
+  const std::optional<NavState> x = ctx_.PredictMeanAt(t_ns);
+  if (!x) return false;
   const std::optional<Vec2> doppler =
       gnss_.MeanDopplerVelocity(t_ns - FromSeconds(z.doppler_window_s), t_ns);
-  const NavState& x = predicted->state;
+  // The covariance only where the test reads it (no Doppler).
   if (doppler ? !(doppler->norm() < z.max_doppler_speed_mps)
-              : !EstimatedSpeedNearZero(*predicted, z)) {
+              : !EstimatedSpeedNearZero(*ctx_.PredictAt(t_ns), z)) {
     return false;
   }
-  const Vec3 acceleration = x.q_world_imu * (mean_a - x.accel_bias) + kGravityWorld;
+  const Vec3 acceleration = x->q_world_imu * (mean_a - x->accel_bias) + kGravityWorld;
   return acceleration.norm() < z.max_acceleration_mps2;
 }
 

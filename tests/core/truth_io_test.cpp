@@ -120,6 +120,58 @@ TEST(TruthIo, BadRowsAreReportedAndEarlierRowsKept) {
   EXPECT_EQ(r.samples.size(), 1u);
 }
 
+// Rows as TruthWriter writes them are read in one pass over the line; rows with spaces around
+// the cells and '\r\n' line ends cell by cell. Both give the same samples, bit for bit, and
+// the same error for a quaternion off unit norm.
+TEST(TruthIo, PlainAndSpacedRowsReadTheSame) {
+  const auto dir = FreshDir("truth_spaced");
+  {
+    TruthWriter w(dir, SE3());
+    for (int i = 0; i < 10; ++i) w.Write(MakeSample(i));
+  }
+  {
+    std::ifstream in(dir / "truth.csv");
+    std::ofstream out(dir / "spaced.csv");
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+      if (n > 1 && n % 2 == 0) {
+        std::string spaced;
+        for (const char c : line) spaced += c == ',' ? std::string(" , ") : std::string(1, c);
+        line = spaced;
+      }
+      out << line << "\r\n";
+    }
+  }
+  const TruthReadResult plain = ReadTruthCsv(dir / "truth.csv");
+  const TruthReadResult spaced = ReadTruthCsv(dir / "spaced.csv");
+  ASSERT_FALSE(plain.error) << *plain.error;
+  ASSERT_FALSE(spaced.error) << *spaced.error;
+  ASSERT_EQ(plain.samples.size(), 10u);
+  ASSERT_EQ(spaced.samples.size(), 10u);
+  for (std::size_t i = 0; i < 10; ++i) {
+    const TruthSample& a = plain.samples[i];
+    const TruthSample& b = spaced.samples[i];
+    EXPECT_EQ(a.t_ns, b.t_ns);
+    EXPECT_EQ(a.body.T_world_frame.translation(), b.body.T_world_frame.translation());
+    EXPECT_EQ(a.body.T_world_frame.rotation().coeffs(), b.body.T_world_frame.rotation().coeffs());
+    EXPECT_EQ(a.body.v_world, b.body.v_world);
+    EXPECT_EQ(a.body.a_world, b.body.a_world);
+    EXPECT_EQ(a.body.omega_frame, b.body.omega_frame);
+    EXPECT_EQ(a.body.alpha_frame, b.body.alpha_frame);
+    EXPECT_EQ(a.steering_front_rad, b.steering_front_rad);
+    EXPECT_EQ(a.steering_rear_rad, b.steering_rear_rad);
+    EXPECT_EQ(a.wheel_omega_radps, b.wheel_omega_radps);
+    EXPECT_EQ(a.sideslip_rad, b.sideslip_rad);
+    EXPECT_EQ(a.distance_m, b.distance_m);
+  }
+  const TruthReadResult off_norm = ReadTruthCsv(WriteBrokenCopy(dir, 5, 4, "", "1.5"));
+  ASSERT_TRUE(off_norm.error);
+  EXPECT_NE(off_norm.error->find(":5: column 'q_world_body_w': quaternion is not of unit norm"),
+            std::string::npos)
+      << *off_norm.error;
+  EXPECT_EQ(off_norm.samples.size(), 3u);
+}
+
 // The streaming reader gives the samples one by one, the same as the whole-file read, and stops
 // at a bad row with the samples before it given.
 TEST(TruthIo, StreamingReaderGivesTheSamplesUpToTheFirstBadRow) {
