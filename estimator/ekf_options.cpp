@@ -64,7 +64,10 @@ const OptionTable<EkfOptions>& EkfOptionTable() {
         .Number("roll_pitch_sigma_rad", &E::roll_pitch_sigma_rad, p, "reported, not estimated")
         .Number("vertical_velocity_sigma_mps", &E::vertical_velocity_sigma_mps, p,
                 "reported, not estimated")
-        .Number("gnss_max_sigma_m", &E::gnss_max_sigma_m, p, "reported GNSS sigma threshold")
+        .Number("gnss_max_sigma_m", &E::gnss_max_sigma_m, p,
+                "reported GNSS sigma threshold (horizontal)")
+        .Number("gnss_max_vertical_sigma_m", &E::gnss_max_vertical_sigma_m, p,
+                "a fix with a larger (or no) vertical sigma updates the horizontal state only")
         .Number("gnss_gate_chi2", &E::gnss_gate_chi2, p, "2 dof (horizontal)")
         .Number("speed_gate_chi2", &E::speed_gate_chi2, p,
                 "1 dof: the speed encoder and each body_velocity component")

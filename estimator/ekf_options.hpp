@@ -62,7 +62,8 @@ struct EkfOptions {
   // Gates: reported GNSS uncertainty threshold (m, sqrt of the largest eigenvalue) and
   // chi-square gates (p = 0.999) on the innovations; a gate opens again after gate_reset_s of
   // rejections.
-  double gnss_max_sigma_m = 5.0;
+  double gnss_max_sigma_m = 5.0;           // horizontal
+  double gnss_max_vertical_sigma_m = 5.0;  // above (or none): the fix's height is not used
   double gnss_gate_chi2 = 13.82;       // 2 dof (horizontal)
   double speed_gate_chi2 = 10.83;      // 1 dof: speed encoder, each body_velocity component
   double heading_max_sigma_rad = 0.2;  // dual-antenna heading threshold

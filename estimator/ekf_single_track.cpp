@@ -11,6 +11,7 @@
 #include "estimator/estimate_status.hpp"
 #include "estimator/ekf_output_mapping.hpp"
 #include "estimator/measurement_checks.hpp"
+#include "estimator/measurement_gate.hpp"
 
 namespace statebench::est {
 namespace {
@@ -77,17 +78,26 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
   if (const auto* fix = std::get_if<GnssFix>(&m)) {
     if (!frame)
       frame.emplace(GeodeticPoint{fix->latitude_deg, fix->longitude_deg, fix->altitude_m});
+    // A fix without a useful height updates the horizontal state only (its vertical variance
+    // then carries no information: the altitude filter's gain is ~0).
+    GnssFix used = *fix;
+    const bool horizontal_only =
+        FixUse(AdjustedCovariance(fix->covariance_enu, info), options.gnss_max_sigma_m,
+               options.gnss_max_vertical_sigma_m) == GnssFixUse::kHorizontalOnly;
+    if (horizontal_only) used.covariance_enu = WithoutVertical(fix->covariance_enu);
     std::string why;
-    const auto enu = GnssFixToEnu(*fix, *frame, &why);
+    const auto enu = GnssFixToEnu(used, *frame, &why);
     if (!enu) {
       Reject(id, fix->header.stamp_ns, RejectReason::kAbsurdValue);
       return;
     }
     const Mat3 cov = AdjustedCovariance(enu->covariance, info);
-    if (std::sqrt(std::max(0.0, cov.eigenvalues().real().maxCoeff())) > options.gnss_max_sigma_m) {
+    if (FixUse(cov, options.gnss_max_sigma_m, std::numeric_limits<double>::infinity()) ==
+        GnssFixUse::kDiscarded) {
       Reject(id, fix->header.stamp_ns, RejectReason::kCovarianceThreshold);
       return;
     }
+    if (horizontal_only) ++diag.sensors[id].events["horizontal_only"];
     if (!initialized) {
       TryInitialize(id, info, *enu);
       Accept(id, HeaderOf(m).stamp_ns);
@@ -156,6 +166,7 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   const Vec3 gyro_body = R_body_imu * sample.gyro;
   const Vec3 accel_body = R_body_imu * sample.accel;
   accel_x = accel_body.x();
+  course_start.AddForwardAccel(sample.header.stamp_ns, accel_x);
   ReleasePending(sample.header.stamp_ns);
   last_imu_ns = sample.header.stamp_ns;
   if (!initialized && local_start) TryStartLocal(sample, gyro_body.z());

@@ -142,6 +142,9 @@ struct MeasurementGateOptions {
   // Scale the reported covariance by what the innovations' consistency across measurements says
   // (estimator/innovation_scale.hpp; never below the reported one). GNSS positions only.
   bool adapt_covariance = false;
+  // GNSS positions only: a fix whose vertical sigma is above this (or not given) is used
+  // horizontally only (measurement_gate.hpp, FixUse); max_sigma then tests the horizontal part.
+  double max_vertical_sigma = 5.0;
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_

@@ -39,6 +39,7 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
   OptionTable<MeasurementGateOptions> t("gate");
   t.Number(sigma_key, &MeasurementGateOptions::max_sigma, Range::Positive(),
            std::string("discard above this reported sigma (") + unit +
+               (adapt_covariance ? ", horizontal" : "") +
                ", sqrt of the largest covariance eigenvalue; paper)")
       .Number("gate_chi2", &MeasurementGateOptions::gate_chi2, Range::Positive(),
               "Mahalanobis gate on the innovation (chi-square)")
@@ -46,9 +47,12 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
               "after this long with only rejections, the next one passes")
       .Section("robust_kernel", &MeasurementGateOptions::kernel, KernelTable(),
                "robust loss of the factor");
-  if (adapt_covariance) {
+  if (adapt_covariance) {  // GNSS positions
     t.Flag("adapt_covariance", &MeasurementGateOptions::adapt_covariance,
-           "scale the reported covariance up when the innovations say it is too small");
+           "scale the reported covariance up when the innovations say it is too small")
+        .Number("max_vertical_sigma_m", &MeasurementGateOptions::max_vertical_sigma,
+                Range::Positive(),
+                "a fix with a larger (or no) vertical sigma is used horizontally only");
   }
   return t;
 }

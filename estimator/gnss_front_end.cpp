@@ -35,14 +35,22 @@ Claim GnssFrontEnd::Claims(const Measurement& m) const {
 }
 
 // The fix in ENU with the antenna's covariance overrides; nullopt (counted) if the covariance
-// threshold discards it. The first fix that passes sets the origin if the options give none.
+// threshold discards it, its height unused (counted) when its vertical sigma is too large. The first fix that passes sets the origin if the options give none.
 std::optional<GnssPositionEnu> GnssFrontEnd::ToEnu(const GnssFix& fix) {
   GnssFix adjusted = fix;
   adjusted.covariance_enu =
       AntennaCovariance(*setup_.FindAntenna(fix.header.sensor_id), fix.covariance_enu);
-  if (LargestSigma(adjusted.covariance_enu) > options_.gnss.max_sigma) {
-    ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kCovarianceThreshold);
-    return std::nullopt;
+  switch (FixUse(adjusted.covariance_enu, options_.gnss.max_sigma,
+                 options_.gnss.max_vertical_sigma)) {
+    case GnssFixUse::kDiscarded:
+      ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kCovarianceThreshold);
+      return std::nullopt;
+    case GnssFixUse::kHorizontalOnly:
+      adjusted.covariance_enu = WithoutVertical(adjusted.covariance_enu);
+      ctx_.Count(fix.header.sensor_id, "horizontal_only");
+      break;
+    case GnssFixUse::kFull:
+      break;
   }
   if (!frame_) frame_.emplace(GeodeticPoint{fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
   std::optional<GnssPositionEnu> enu = GnssFixToEnu(adjusted, *frame_);

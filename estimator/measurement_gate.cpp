@@ -30,6 +30,30 @@ double LargestSigma(const Mat3& covariance) {
   return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
 }
 
+GnssFixUse FixUse(const Mat3& covariance, double max_sigma, double max_vertical_sigma) {
+  const Mat2 horizontal = covariance.topLeftCorner<2, 2>();
+  if (!horizontal.allFinite()) return GnssFixUse::kFull;  // the fix's validation refuses it
+  const Eigen::SelfAdjointEigenSolver<Mat2> eig(0.5 * (horizontal + horizontal.transpose()),
+                                                Eigen::EigenvaluesOnly);
+  if (!(std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff())) <= max_sigma)) {
+    return GnssFixUse::kDiscarded;
+  }
+  const double vertical = covariance(2, 2);
+  if (!(vertical > 0.0) || !std::isfinite(vertical) ||
+      std::sqrt(vertical) > max_vertical_sigma) {
+    return GnssFixUse::kHorizontalOnly;
+  }
+  return GnssFixUse::kFull;
+}
+
+Mat3 WithoutVertical(const Mat3& covariance) {
+  Mat3 out = covariance;
+  out.row(2).setZero();
+  out.col(2).setZero();
+  out(2, 2) = kUnusedVerticalVariance;
+  return out;
+}
+
 double GnssMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_imu_antenna,
                               const Vec3& p_enu, const Mat3& covariance_enu) {
   const NavState& x = predicted.state;

@@ -24,6 +24,22 @@ namespace statebench::est {
 // Square root of the largest eigenvalue of a symmetric covariance.
 double LargestSigma(const Mat3& covariance);
 
+// How a GNSS fix is used, by its reported ENU covariance: discarded when its horizontal sigma
+// (the largest eigenvalue of the horizontal block; the paper's threshold max_sigma) is above
+// max_sigma; horizontally only when its vertical sigma is above
+// max_vertical_sigma or its vertical variance is not a positive number (a receiver that does
+// not know its height, a 2D fix: its horizontal part is still worth having); else in full (also
+// when the horizontal block is not finite: the fix's validation, GnssFixToEnu, refuses it).
+enum class GnssFixUse { kFull, kHorizontalOnly, kDiscarded };
+GnssFixUse FixUse(const Mat3& covariance, double max_sigma, double max_vertical_sigma);
+
+// A vertical variance that carries no information: (1 km)^2.
+inline constexpr double kUnusedVerticalVariance = 1e6;
+
+// The covariance with its vertical row and column replaced by kUnusedVerticalVariance and no
+// correlation: the fix's height no longer counts.
+Mat3 WithoutVertical(const Mat3& covariance);
+
 // Squared Mahalanobis distance of a fix (antenna at p_imu_antenna) from the prediction.
 double GnssMahalanobisSquared(const PropagatedState& predicted, const Vec3& p_imu_antenna,
                               const Vec3& p_enu, const Mat3& covariance_enu);

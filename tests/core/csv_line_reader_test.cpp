@@ -1,6 +1,7 @@
 #include "core/csv_line_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -13,7 +14,8 @@ namespace statebench {
 namespace {
 
 std::filesystem::path WriteLineReaderFile(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / "statebench_csv_line_reader";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("statebench_csv_line_reader_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   testing::RemovedAtExit(dir);
   const auto path = dir / name;

@@ -3,6 +3,7 @@
 #include "estimator/estimator_factory.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -53,7 +54,8 @@ TEST(EstimatorFactory, EkfNeedsValidVehicleFile) {
   const EstimatorSensorSetup setup = testing::MakeDriveSetup();
   EXPECT_NE(MessageOf([&] { MakeEstimator("ekf", setup, {}); }).find("vehicle"), std::string::npos);
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "ekf_factory_test_vehicle.yaml";
+      std::filesystem::temp_directory_path() /
+      ("ekf_factory_test_vehicle_" + std::to_string(::getpid()) + ".yaml");
   {
     std::ofstream out(path);
     out << "name: broken\nmass_kg: 500\nyaw_inertia_kgm2: -3\n";
@@ -62,7 +64,7 @@ TEST(EstimatorFactory, EkfNeedsValidVehicleFile) {
   files.vehicle = path;
   const std::string message = MessageOf([&] { MakeEstimator("ekf", setup, files); });
   EXPECT_NE(message.find("yaw_inertia_kgm2"), std::string::npos) << message;
-  EXPECT_NE(message.find("ekf_factory_test_vehicle.yaml:3"), std::string::npos) << message;
+  EXPECT_NE(message.find(path.filename().string() + ":3"), std::string::npos) << message;
   std::filesystem::remove(path);
 }
 

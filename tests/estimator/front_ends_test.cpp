@@ -199,5 +199,33 @@ TEST(FrontEnds, GnssFixesAboveTheCovarianceThresholdAreDiscarded) {
   ASSERT_TRUE(gnss.frame().has_value());
 }
 
+// A fix without a useful height (vertical sigma above max_vertical_sigma_m, or none given) is
+// used horizontally: counted, not discarded; its vertical variance carries no information.
+TEST(FrontEnds, GnssFixesWithoutAUsefulHeightAreUsedHorizontally) {
+  Fixture f;
+  f.options.origin = GeodeticPoint{48.7, 2.2, 120.0};
+  GnssFrontEnd gnss(f.setup, f.options, f.ctx);
+  GnssFix fix = At<GnssFix>("gnss", FromSeconds(1.0));
+  fix.latitude_deg = 48.7;
+  fix.longitude_deg = 2.2;
+  fix.altitude_m = 121.0;
+  fix.status = GnssFixStatus::kSingle;
+  fix.covariance_enu = Vec3(1.0, 1.0, 400.0).asDiagonal();  // vertical sigma 20 m > 5
+  gnss.Process(fix);
+  gnss.EndOfStamp();
+  fix.header.stamp_ns = FromSeconds(1.1);
+  fix.covariance_enu = Vec3(1.0, 1.0, 0.0).asDiagonal();  // no height
+  gnss.Process(fix);
+  gnss.EndOfStamp();
+  fix.header.stamp_ns = FromSeconds(1.2);
+  fix.covariance_enu = Vec3(36.0, 1.0, 400.0).asDiagonal();  // horizontal sigma 6 m > 5
+  gnss.Process(fix);
+  gnss.EndOfStamp();
+  const SensorCounters& c = f.ctx.diag.sensors.at("gnss");
+  EXPECT_EQ(c.accepted, 2u);
+  EXPECT_EQ(c.events.at("horizontal_only"), 2u);
+  EXPECT_EQ(Rejected(f.ctx, "gnss", RejectReason::kCovarianceThreshold), 1u);
+}
+
 }  // namespace
 }  // namespace statebench::est

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "core/so3.hpp"
 
@@ -98,6 +99,25 @@ TEST(MeasurementGate, HeadingFromTwoFixes) {
 
 TEST(MeasurementGate, LargestSigma) {
   EXPECT_DOUBLE_EQ(LargestSigma(Vec3(1.0, 9.0, 4.0).asDiagonal().toDenseMatrix()), 3.0);
+}
+
+TEST(MeasurementGate, FixUseTestsTheHorizontalAndTheVerticalApart) {
+  EXPECT_EQ(FixUse(Vec3(1.0, 1.0, 4.0).asDiagonal(), 5.0, 5.0), GnssFixUse::kFull);
+  EXPECT_EQ(FixUse(Vec3(1.0, 1.0, 36.0).asDiagonal(), 5.0, 5.0), GnssFixUse::kHorizontalOnly);
+  EXPECT_EQ(FixUse(Vec3(1.0, 1.0, 0.0).asDiagonal(), 5.0, 5.0), GnssFixUse::kHorizontalOnly);
+  Mat3 no_height = Mat3::Identity();
+  no_height(2, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(FixUse(no_height, 5.0, 5.0), GnssFixUse::kHorizontalOnly);
+  EXPECT_EQ(FixUse(Vec3(36.0, 1.0, 1.0).asDiagonal(), 5.0, 5.0), GnssFixUse::kDiscarded);
+  // A horizontal ellipse's major axis, not its diagonal, is tested.
+  Mat3 tilted = Vec3(20.0, 20.0, 1.0).asDiagonal();
+  tilted(0, 1) = tilted(1, 0) = 10.0;  // eigenvalues 10 and 30: sigma 5.48 m
+  EXPECT_EQ(FixUse(tilted, 5.0, 5.0), GnssFixUse::kDiscarded);
+  const Mat3 w = WithoutVertical(tilted);
+  EXPECT_TRUE((w.topLeftCorner<2, 2>() == tilted.topLeftCorner<2, 2>()));
+  EXPECT_EQ(w(2, 2), kUnusedVerticalVariance);
+  EXPECT_EQ(w(0, 2), 0.0);
+  EXPECT_EQ(w(2, 1), 0.0);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -21,10 +22,12 @@ inline std::filesystem::path SourceDir() {
   return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
 }
 
-// An emptied folder <tmp>/statebench_<prefix>_<name> for one run's outputs, removed when the
-// test program ends.
+// An emptied folder <tmp>/statebench_<prefix>_<name>_<pid> for one run's outputs, removed when
+// the test program ends (the process id keeps two test programs running at once, e.g. two build
+// trees' ctest, out of each other's folders).
 inline std::filesystem::path FreshWorkDir(const std::string& prefix, const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("statebench_" + prefix + "_" + name);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("statebench_" + prefix + "_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   return statebench::testing::RemovedAtExit(dir);
 }
