@@ -257,7 +257,12 @@ EstimatorSensorSetup ParseEstimatorSensorSetup(const YamlNode& root) {
 }
 
 bool FactorGraphOptions::IsValid(std::string* why) const {
-  return FactorGraphOptionTable().IsValid(*this, why);
+  if (!FactorGraphOptionTable().IsValid(*this, why)) return false;
+  if (batch && lagged_output) {
+    if (why != nullptr) *why = "factor graph options: batch and lagged_output exclude each other";
+    return false;
+  }
+  return true;
 }
 
 FactorGraphOptions LoadFactorGraphOptions(const std::filesystem::path& path) {

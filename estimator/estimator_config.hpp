@@ -182,6 +182,12 @@ struct FactorGraphOptions {
   // (Estimator::EstimatesAtEnd).
   bool batch = false;
   int batch_max_iterations = 50;
+  // The fixed-lag smoother's smoothed output instead of its real-time one: the estimate at a
+  // stamp comes from the latest state at or before it as estimated when it left the window
+  // (window_s of lag; the window's last states at the end of the log), with its marginal
+  // covariance then, carried through the IMU samples. The smoother runs exactly as without it;
+  // the estimate is read at the end of the log (Estimator::EstimatesAtEnd). Not with batch.
+  bool lagged_output = false;
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   ImuNoiseEstimationOptions imu_noise_estimation;  // imu_noise_monitor.hpp

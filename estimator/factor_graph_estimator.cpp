@@ -87,7 +87,8 @@ struct FactorGraphEstimator::Impl {
     return C;
   }
 
-  // The full-batch smoother's segments (options.batch), and whether the log has ended.
+  // The segments of the full-batch smoother (options.batch) or of the lagged output
+  // (options.lagged_output), and whether the log has ended.
   BatchOutput batch{setup.imu_noise.value_or(options.imu_noise)};
   bool ended = false;
 
@@ -260,8 +261,11 @@ struct FactorGraphEstimator::Impl {
 
   // The smoother run that ends here (a restart, the switch into ENU, the end of the log) solved
   // as a whole (SlidingWindowSmoother::SolveBatch), into the batch output.
+  // With lagged_output, the run's lagged states instead (SlidingWindowSmoother::LaggedStates).
   void CloseBatchSegment() {
-    if (!options.batch || !ctx.smoother.initialized()) return;
+    if (!ctx.smoother.initialized()) return;
+    if (options.lagged_output) return batch.Add(ctx.smoother.LaggedStates(), ctx.local_frame);
+    if (!options.batch) return;
     const auto start = std::chrono::steady_clock::now();
     SmootherBatch b = ctx.smoother.SolveBatch(options.batch_max_iterations);
     const auto stop = std::chrono::steady_clock::now();
@@ -360,7 +364,7 @@ FactorGraphEstimator::~FactorGraphEstimator() = default;
 void FactorGraphEstimator::Add(const Measurement& measurement) { impl_->Add(measurement); }
 
 std::optional<StateEstimate> FactorGraphEstimator::StateAt(TimeNs t_ns) const {
-  if (impl_->options.batch) return impl_->BatchStateAt(t_ns);
+  if (EstimatesAtEnd()) return impl_->BatchStateAt(t_ns);
   std::optional<PropagatedState> p = impl_->ctx.PredictAt(t_ns);
   if (!p) return std::nullopt;
   // The calibration share at the best estimate; the blend's offset on top (output_blend.hpp).
@@ -380,7 +384,9 @@ void FactorGraphEstimator::SetVerdictObserver(VerdictObserver observer) {
   impl_->ctx.verdicts = std::move(observer);
 }
 
-bool FactorGraphEstimator::EstimatesAtEnd() const { return impl_->options.batch; }
+bool FactorGraphEstimator::EstimatesAtEnd() const {
+  return impl_->options.batch || impl_->options.lagged_output;
+}
 
 void FactorGraphEstimator::EndOfLog() { impl_->EndOfLog(); }
 

@@ -282,6 +282,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
             "full-batch smoother: every state solved at the end of the log, no marginalisation")
       .Integer("batch_max_iterations", &F::batch_max_iterations, 1,
                "Levenberg-Marquardt iterations of the batch solve")
+      .Flag("lagged_output", &F::lagged_output,
+            "the smoothed output: each state as it leaves the window, read at the end of the log")
       .Custom(
           "origin",
           [](const YamlNode& n, F* o) {

@@ -18,6 +18,7 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   s.num_threads = o.num_threads;
   s.solver = o.solver;
   s.keep_all_states = o.batch;
+  s.keep_lagged_states = o.lagged_output;
   return s;
 }
 

@@ -11,6 +11,7 @@
 #include <deque>
 #include <functional>
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -100,7 +101,11 @@ struct SlidingWindowSmoother::Impl {
   // with its factors but without its marginalisation prior, and every IMU sample since the
   // first state (the window's buffer forgets them).
   std::vector<std::unique_ptr<Node>> kept;
-  std::vector<ImuSample> all_imu;
+  std::vector<ImuSample> all_imu;  // keep_all_states or keep_lagged_states
+  // The lagged store (options.keep_lagged_states): states that left the window, oldest first,
+  // and their marginal covariances in the window they left.
+  std::vector<NavState> lagged_states;
+  std::vector<Mat15> lagged_covariances;
   int num_dropped = 0;  // pending measurements found too old, since the last Solve
   int num_left_out = 0;  // factors non-finite at marginalisation (Linearize), since the last Solve
   // The newest state's information from the last chain solve's final linearisation; cleared by
@@ -311,6 +316,17 @@ struct SlidingWindowSmoother::Impl {
       for (const Factor& f : states[k]->factors) chain[k].factors.push_back(&f.record);
     }
     return chain;
+  }
+
+  // Every window state's marginal covariance at the current values (NaN when a factor does not
+  // evaluate: no covariance to vouch for).
+  std::vector<Mat15> WindowMarginals() const {
+    ChainSystem system;
+    if (!LinearizeChain(Chain(), manifold, &system)) {
+      return std::vector<Mat15>(states.size(),
+                                Mat15::Constant(std::numeric_limits<double>::quiet_NaN()));
+    }
+    return ChainMarginalCovariances(system);
   }
 
   Mat15 NewestInformation() const {

@@ -65,7 +65,7 @@ void SlidingWindowSmoother::AddImu(const ImuSample& sample) {
     return;
   }
   m.imu.push_back(sample);
-  if (m.options.keep_all_states) m.all_imu.push_back(sample);
+  if (m.options.keep_all_states || m.options.keep_lagged_states) m.all_imu.push_back(sample);
   if (++m.samples_since_state >= m.options.imu_samples_per_state) {
     m.CreateState(sample.header.stamp_ns);
     m.samples_since_state = 0;
@@ -87,7 +87,7 @@ void SlidingWindowSmoother::Initialize(const NavState& state, const Mat15& covar
   m.AddFactor(*node, Impl::FactorKind::kPrior, prior, nullptr, node->Blocks());
   m.states.push_back(std::move(node));
   m.samples_since_state = 0;
-  if (m.options.keep_all_states) m.all_imu = m.imu;
+  if (m.options.keep_all_states || m.options.keep_lagged_states) m.all_imu = m.imu;
 }
 
 AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
@@ -216,7 +216,15 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   const TimeNs limit_ns = out.usable ? window_ns : 2 * window_ns;
   const auto span_ns = [&m] { return m.states.back()->t_ns - m.states.front()->t_ns; };
   if (!out.usable && span_ns() > window_ns) out.marginalization_deferred = true;
+  const bool leaving = m.states.size() > 1 && span_ns() > limit_ns;
+  // The leaving states' marginals in the window they leave (the lagged store).
+  const std::vector<Mat15> marginals =
+      m.options.keep_lagged_states && leaving ? m.WindowMarginals() : std::vector<Mat15>{};
   while (m.states.size() > 1 && span_ns() > limit_ns) {
+    if (m.options.keep_lagged_states) {
+      m.lagged_states.push_back(m.states.front()->State());
+      m.lagged_covariances.push_back(marginals[static_cast<std::size_t>(out.num_marginalized)]);
+    }
     m.MarginalizeOldest();
     ++out.num_marginalized;
     out.num_marginalized_unusable += out.usable ? 0 : 1;
@@ -250,6 +258,22 @@ Mat15 SlidingWindowSmoother::NewestCovariance() const {
   const Eigen::LDLT<Mat15> ldlt(0.5 * (information + information.transpose()));
   Mat15 covariance = ldlt.solve(Mat15::Identity());
   return 0.5 * (covariance + covariance.transpose());
+}
+
+SmootherBatch SlidingWindowSmoother::LaggedStates() const {
+  const Impl& m = *impl_;
+  if (!m.options.keep_lagged_states) {
+    throw InputError("sliding window smoother: LaggedStates without keep_lagged_states");
+  }
+  if (!initialized()) throw InputError("sliding window smoother: LaggedStates before Initialize");
+  SmootherBatch out;
+  out.usable = true;
+  out.states = m.lagged_states;
+  out.covariances = m.lagged_covariances;
+  for (const auto& n : m.states) out.states.push_back(n->State());
+  for (const Mat15& c : m.WindowMarginals()) out.covariances.push_back(c);
+  out.imu = m.all_imu;
+  return out;
 }
 
 std::vector<NavState> SlidingWindowSmoother::WindowStates() const {

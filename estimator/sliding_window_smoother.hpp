@@ -51,6 +51,10 @@ struct SlidingWindowOptions {
   // The batch store: keep every state and factor that leaves the window (memory grows with the
   // run: about 10 KB per state with lidar factors) for SolveBatch.
   bool keep_all_states = false;
+  // The lagged store: each state as it leaves the window (its estimate with the window's lag)
+  // with its marginal covariance in the window's last linearisation, and every IMU sample, for
+  // LaggedStates (about 2 KB per state and 0.1 KB per IMU sample).
+  bool keep_lagged_states = false;
 
   bool IsValid(std::string* why = nullptr) const;
 };
@@ -150,6 +154,14 @@ class SlidingWindowSmoother {
   // the end: the smoother is left with the batch values. InputError without keep_all_states or
   // before Initialize.
   SmootherBatch SolveBatch(int max_iterations);
+
+  // With keep_lagged_states: the fixed-lag smoother's smoothed output. Every state since
+  // Initialize as last estimated before it left the window (the window's states as they are
+  // now), each with its marginal covariance in the window at that time (chain_system.hpp's
+  // ChainMarginalCovariances of the window linearised after the solve that marginalised it),
+  // and every IMU sample since the first state; usable, no iterations. InputError without
+  // keep_lagged_states or before Initialize.
+  SmootherBatch LaggedStates() const;
 
   NavState NewestState() const;
   // Newest state propagated with the IMU to the newest sample (equal to NewestState() when a

@@ -1,4 +1,6 @@
-// The full-batch smoother (FactorGraphOptions::batch) against the fixed-lag smoother it bounds.
+// The full-batch smoother (FactorGraphOptions::batch) against the fixed-lag smoother it bounds, and
+// the fixed-lag smoother's smoothed output (FactorGraphOptions::lagged_output): each state as it
+// left the window, against the real-time output of the same smoother.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -61,23 +63,44 @@ BatchRmse BatchRmseOf(const testing::Scenario& sc, const std::map<TimeNs, StateE
   return r;
 }
 
+// `better` is no worse than `worse` on position, yaw and velocity from 5 s on, over the same
+// stamps.
+void ExpectNoWorse(const testing::Scenario& sc, const char* names,
+                   const std::map<TimeNs, StateEstimate>& worse,
+                   const std::map<TimeNs, StateEstimate>& better) {
+  const BatchRmse w = BatchRmseOf(sc, worse, better, 5.0);
+  const BatchRmse b = BatchRmseOf(sc, better, worse, 5.0);
+  std::printf("RMSE %s: position %.3f / %.3f m, yaw %.4f / %.4f rad, "
+              "velocity %.3f / %.3f m/s over %d epochs\n",
+              names, w.position_m, b.position_m, w.yaw_rad, b.yaw_rad, w.velocity_mps,
+              b.velocity_mps, w.epochs);
+  EXPECT_EQ(w.epochs, b.epochs);
+  EXPECT_LE(b.position_m, w.position_m);
+  EXPECT_LE(b.yaw_rad, w.yaw_rad);
+  EXPECT_LE(b.velocity_mps, w.velocity_mps);
+}
+
 FactorGraphOptions BatchTestOptions() {
   FactorGraphOptions o;
   o.origin = testing::kTestOrigin;
   return o;
 }
 
-// A noisy IMU with biases and 0.3 m GNSS with a 10 s outage: the fixed-lag output through the
-// outage is an IMU prediction; the batch has the fixes after it too. The batch is no worse on
-// any metric, and much better through the outage.
-TEST(FactorGraphBatch, IsNoWorseThanTheFixedLagSmootherOnANoisyDrive) {
+testing::Scenario NoisyDriveWithOutage() {
   testing::ScenarioOptions so = testing::DriftingImuRtkOptions(45.0);
   so.gnss_sigma_h = so.reported_sigma_h = 0.3;
   so.gnss_sigma_v = so.reported_sigma_v = 0.5;
   so.outage_begin_s = 20.0;
   so.outage_end_s = 30.0;
   so.seed = 7;
-  const testing::Scenario sc = testing::MakeScenario(so);
+  return testing::MakeScenario(so);
+}
+
+// A noisy IMU with biases and 0.3 m GNSS with a 10 s outage: the fixed-lag output through the
+// outage is an IMU prediction; the batch has the fixes after it too. The batch is no worse on
+// any metric, and much better through the outage.
+TEST(FactorGraphBatch, IsNoWorseThanTheFixedLagSmootherOnANoisyDrive) {
+  const testing::Scenario sc = NoisyDriveWithOutage();
   EstimatorDiagnostics fixed_diag, batch_diag;
   const auto fixed = BatchRunOutputs(sc, BatchTestOptions(), false, &fixed_diag);
   const auto batch = BatchRunOutputs(sc, BatchTestOptions(), true, &batch_diag);
@@ -91,16 +114,7 @@ TEST(FactorGraphBatch, IsNoWorseThanTheFixedLagSmootherOnANoisyDrive) {
     ASSERT_NE(it, batch.end()) << ToSeconds(t);
     ASSERT_TRUE(it->second.covariance.allFinite());
   }
-  const BatchRmse f = BatchRmseOf(sc, fixed, batch, 5.0);
-  const BatchRmse b = BatchRmseOf(sc, batch, fixed, 5.0);
-  std::printf("RMSE fixed-lag / batch: position %.3f / %.3f m, yaw %.4f / %.4f rad, "
-              "velocity %.3f / %.3f m/s over %d epochs\n",
-              f.position_m, b.position_m, f.yaw_rad, b.yaw_rad, f.velocity_mps, b.velocity_mps,
-              f.epochs);
-  EXPECT_EQ(f.epochs, b.epochs);
-  EXPECT_LE(b.position_m, f.position_m);
-  EXPECT_LE(b.yaw_rad, f.yaw_rad);
-  EXPECT_LE(b.velocity_mps, f.velocity_mps);
+  ExpectNoWorse(sc, "fixed-lag / batch", fixed, batch);
 }
 
 // With a window longer than the drive nothing is marginalised: the fixed-lag smoother's last
@@ -148,6 +162,67 @@ TEST(FactorGraphBatch, AgreesWithAFixedLagSmootherWhoseWindowHoldsTheWholeDrive)
               compared, largest, bound, position);
   EXPECT_GT(compared, 1600);
   EXPECT_LE(largest, bound);
+}
+
+// The lagged estimator gives nothing before the end of the log and, after it, an estimate at
+// every stamp the real-time one estimated; at the stamp of each state that left the window its
+// mean is that state's estimate when it left (what the real-time estimator's
+// TakeSmoothedStates hands out), bit for bit: the smoother ran the same way.
+TEST(FactorGraphLagged, IsTheSmootherStatesAsTheyLeftTheWindow) {
+  const testing::Scenario sc = NoisyDriveWithOutage();
+  FactorGraphOptions o = BatchTestOptions();
+  FactorGraphEstimator online(testing::MakeSetup(sc.options), o);
+  online.KeepSmoothedStates();
+  std::map<TimeNs, StateEstimate> real_time;
+  std::vector<NavState> smoothed;
+  testing::FeedOutputs(online, sc.stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
+    if (e) real_time[t] = *e;
+    for (const NavState& s : online.TakeSmoothedStates()) smoothed.push_back(s);
+  });
+
+  o.lagged_output = true;
+  FactorGraphEstimator lagged(testing::MakeSetup(sc.options), o);
+  EXPECT_TRUE(lagged.EstimatesAtEnd());
+  std::vector<TimeNs> stamps;
+  testing::FeedOutputs(lagged, sc.stream, [&](TimeNs t, const std::optional<StateEstimate>& e) {
+    EXPECT_FALSE(e.has_value());  // not before the end
+    stamps.push_back(t);
+  });
+  lagged.EndOfLog();
+  std::map<TimeNs, StateEstimate> out;
+  for (TimeNs t : stamps) {
+    if (const auto e = lagged.StateAt(t)) out[t] = *e;
+  }
+  for (const auto& [t, e] : real_time) {
+    const auto it = out.find(t);
+    ASSERT_NE(it, out.end()) << ToSeconds(t);
+    ASSERT_TRUE(it->second.covariance.allFinite());
+    ASSERT_GT(it->second.covariance.diagonal().minCoeff(), 0.0);
+  }
+  ASSERT_GT(smoothed.size(), 300u);
+  int compared = 0;
+  for (const NavState& s : smoothed) {
+    const auto it = out.find(s.t_ns);
+    if (it == out.end()) continue;
+    EXPECT_EQ(it->second.state.p_world, s.p_world) << ToSeconds(s.t_ns);
+    EXPECT_EQ(it->second.state.v_world, s.v_world) << ToSeconds(s.t_ns);
+    EXPECT_EQ(it->second.state.q_world_imu.coeffs(), s.q_world_imu.coeffs());
+    ++compared;
+  }
+  EXPECT_EQ(compared, static_cast<int>(smoothed.size()));
+
+  // The lag's measurements make it no worse than the real-time output on any metric.
+  ExpectNoWorse(sc, "real-time / lagged", real_time, out);
+}
+
+TEST(FactorGraphLagged, ExcludesTheBatch) {
+  FactorGraphOptions o = BatchTestOptions();
+  o.lagged_output = true;
+  EXPECT_TRUE(o.IsValid());
+  o.batch = true;
+  std::string why;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("lagged_output"), std::string::npos);
 }
 
 }  // namespace
