@@ -142,6 +142,12 @@ struct MeasurementGateOptions {
   // Scale the reported covariance by what the innovations' consistency across measurements says
   // (estimator/innovation_scale.hpp; never below the reported one). GNSS positions only.
   bool adapt_covariance = false;
+  // GNSS positions only: estimate each receiver's time offset to the IMU (how late its stamps
+  // are) as a state of the smoother (gnss_time_offset_factor.hpp), with the prior N(0, sigma^2)
+  // and held within +-time_offset_max_s.
+  bool estimate_time_offset = false;
+  double time_offset_prior_sigma_s = 0.2;
+  double time_offset_max_s = 0.5;
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_

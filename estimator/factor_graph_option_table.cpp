@@ -48,7 +48,13 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
                "robust loss of the factor");
   if (adapt_covariance) {
     t.Flag("adapt_covariance", &MeasurementGateOptions::adapt_covariance,
-           "scale the reported covariance up when the innovations say it is too small");
+           "scale the reported covariance up when the innovations say it is too small")
+        .Flag("estimate_time_offset", &MeasurementGateOptions::estimate_time_offset,
+              "estimate each receiver's time offset to the IMU in the smoother")
+        .Number("time_offset_prior_sigma_s", &MeasurementGateOptions::time_offset_prior_sigma_s,
+                Range::Positive(), "prior sigma of the time offset around 0 (s)")
+        .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s,
+                Range::Positive(), "the time offset is held within +- this (s)");
   }
   return t;
 }
