@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/so3.hpp"
+#include "estimator/ekf_course_start.hpp"
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/ekf_single_track_model.hpp"
 #include "estimator/gnss_enu.hpp"
@@ -86,13 +87,8 @@ struct EkfSingleTrackEstimator::Impl {
   double steering = 0.0;
   std::optional<double> encoder_speed;
 
-  // Initialisation: first fix of the course antenna.
-  std::optional<std::pair<TimeNs, Vec3>> first_fix;
-  Mat3 first_fix_covariance = Mat3::Identity();
-  // How far the course antenna has moved from its first fix, and how far it must for a course
-  // (WaitingFor()).
-  double course_distance_m = 0.0;
-  double course_needed_m = 0.0;
+  // Initialisation: the course antenna's recent fixes and the IMU's longitudinal force.
+  EkfCourseStart course_start;
 
   // Filter.
   bool initialized = false;

@@ -155,32 +155,20 @@ void EkfSingleTrackEstimator::Impl::UpdateGnssVelocity(const std::string& id,
 void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const SensorInfo& info,
                                                   const GnssPositionEnu& fix) {
   if (id != course_antenna) return;
-  if (!first_fix) {
-    first_fix = {fix.header.stamp_ns, fix.p_enu};
-    first_fix_covariance = fix.covariance;
-    return;
-  }
-  const Vec3 d = fix.p_enu - first_fix->second;
-  const double dt = ToSeconds(fix.header.stamp_ns - first_fix->first);
-  // The course is the chord between two noisy fixes: its yaw sigma is about
-  // sqrt(2) sigma_h / distance; wait until that is below course_max_yaw_sigma_rad.
-  const Mat3 cov_first = AdjustedCovariance(first_fix_covariance, info);
   const Mat3 cov_now = AdjustedCovariance(fix.covariance, info);
-  const double var_h = std::max(cov_first.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff(),
-                                cov_now.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff());
-  const double distance = d.head<2>().norm();
-  course_distance_m = distance;
-  course_needed_m = std::max(options.course_min_distance_m,
-                             std::sqrt(2.0 * var_h) / options.course_max_yaw_sigma_rad);
-  if (distance < options.course_min_distance_m || dt <= 0.0) return;
-  const double course_var = 2.0 * var_h / (distance * distance);
-  if (course_var > options.course_max_yaw_sigma_rad * options.course_max_yaw_sigma_rad) return;
-  double yaw = std::atan2(d.y(), d.x());
-  double speed = d.head<2>().norm() / dt;
+  const std::optional<EkfCourseStart::Course> course =
+      course_start.AddFix(fix.header.stamp_ns, fix.p_enu, cov_now, options.course_min_distance_m,
+                          options.course_max_yaw_sigma_rad);
+  if (!course) return;
+  double yaw = course->yaw_rad;
+  double speed = course->speed_mps;
+  double speed_variance = course->speed_variance;
   if (encoder_speed) {
     speed = *encoder_speed;
+    speed_variance = 0.0;
     if (speed < 0.0) yaw = so3::WrapAngle(yaw + std::numbers::pi);
   }
+  const double course_var = course->yaw_variance;
   const Mat3& cov = cov_now;
   const Vec2 Rl = (YawRotation(yaw) * info.p_body_sensor).head<2>();
   x = VecN::Zero();
@@ -196,7 +184,7 @@ void EkfSingleTrackEstimator::Impl::TryInitialize(const std::string& id, const S
   P.block<2, 1>(0, kPsi) = -dpos_dpsi * P(kPsi, kPsi);
   P.block<1, 2>(kPsi, 0) = P.block<2, 1>(0, kPsi).transpose();
   P.topLeftCorner<2, 2>() += dpos_dpsi * dpos_dpsi.transpose() * P(kPsi, kPsi);
-  P(kVx, kVx) = options.init_speed_sigma_mps * options.init_speed_sigma_mps;
+  P(kVx, kVx) = options.init_speed_sigma_mps * options.init_speed_sigma_mps + speed_variance;
   P(kVy, kVy) = options.init_speed_sigma_mps * options.init_speed_sigma_mps;
   P(kR, kR) = 0.1 * 0.1;
   P(kBg, kBg) = options.init_gyro_bias_sigma_radps * options.init_gyro_bias_sigma_radps;
@@ -218,8 +206,7 @@ void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stam
   diag.Lost(stamp_ns, event);
   ++diag.sensors[id].events[event];
   initialized = false;
-  first_fix.reset();
-  course_distance_m = course_needed_m = 0.0;
+  course_start.Reset();
   history.clear();
   refused_fixes.clear();
   last_accepted_gnss_ns.clear();
@@ -236,11 +223,13 @@ namespace statebench::est {
 
 std::string EkfSingleTrackEstimator::Impl::WaitingFor() const {
   if (!last_imu_ns) return "no IMU sample";
-  if (!first_fix) return "no GNSS fix of " + course_antenna;
-  char text[160];
+  if (!course_start.has_fix()) return "no GNSS fix of " + course_antenna;
+  char text[200];
   std::snprintf(text, sizeof(text),
-                "no GNSS course (%s moved %.3g m from its first fix of the %.3g m needed)",
-                course_antenna.c_str(), course_distance_m, course_needed_m);
+                "no GNSS course (the longest chord of %s's last %.0f s is %.3g m of the %.3g m "
+                "needed)",
+                course_antenna.c_str(), EkfCourseStart::kHistoryS, course_start.longest_chord_m(),
+                course_start.needed_m());
   return text;
 }
 

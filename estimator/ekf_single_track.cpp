@@ -156,6 +156,7 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   const Vec3 gyro_body = R_body_imu * sample.gyro;
   const Vec3 accel_body = R_body_imu * sample.accel;
   accel_x = accel_body.x();
+  course_start.AddForwardAccel(sample.header.stamp_ns, accel_x);
   ReleasePending(sample.header.stamp_ns);
   last_imu_ns = sample.header.stamp_ns;
   if (!initialized && local_start) TryStartLocal(sample, gyro_body.z());

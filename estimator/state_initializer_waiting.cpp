@@ -128,7 +128,9 @@ std::string StateInitializer::LocalWaitingFor() const {
     }
   }
   if (missing.empty()) return "a first state in the local frame";
-  return Join(missing) + " (no GNSS antenna in the setup: a local-frame start)";
+  return Join(missing) + (local_.enu_later
+                              ? " (a local-frame start until the GNSS fixes can start it in ENU)"
+                              : " (no GNSS antenna in the setup: a local-frame start)");
 }
 
 }  // namespace statebench::est

@@ -71,7 +71,7 @@ fs::path ParseVehicle(const YamlNode& node, const fs::path& scenario_dir) {
 
 EgoSpec ParseEgo(const YamlNode& node) {
   node.ExpectOnlyKeys({"route", "from", "to", "via", "loops", "depart_pos_m", "depart_speed_mps",
-                       "max_speed_mps", "car_follow_model"});
+                       "parked_s", "max_speed_mps", "car_follow_model"});
   EgoSpec ego;
   ego.source = SourceRef::Of(node);
   const bool has_route = node.Has("route");
@@ -97,6 +97,10 @@ EgoSpec ParseEgo(const YamlNode& node) {
   }
   ego.depart_pos_m = GetNonNegative(node, "depart_pos_m", 0.0);
   ego.depart_speed_mps = GetNonNegative(node, "depart_speed_mps", 0.0);
+  ego.parked_s = GetNonNegative(node, "parked_s", 0.0);
+  if (ego.parked_s > 0.0 && ego.depart_speed_mps > 0.0) {
+    node["parked_s"].Fail("a parked start departs at 0 m/s: set depart_speed_mps to 0");
+  }
   if (node.Has("max_speed_mps")) ego.max_speed_mps = GetPositive(node, "max_speed_mps");
   if (const auto model = node.Find("car_follow_model")) {
     ego.car_follow_model = model->As<std::string>();

@@ -98,6 +98,9 @@ struct EgoSpec {
   SourceRef loops_source;
   double depart_pos_m = 0.0;
   double depart_speed_mps = 0.0;
+  // The ego stands at its departure position this long (engine running: the IMU's vibration
+  // model idles) before SUMO's driver model takes over; 0 drives off at once.
+  double parked_s = 0.0;
   std::optional<double> max_speed_mps;   // further cap below the vehicle's own maximum
   std::string car_follow_model = "IDM";  // "IDM" or "Krauss"
   SourceRef source;                      // the `ego` field

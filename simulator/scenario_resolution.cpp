@@ -87,19 +87,22 @@ std::string Ids(const YAML::Node& list, const std::string& field) {
   return ids;
 }
 
-// Walks the path. Returns the parent map of the last key (or the node itself when
-// `include_last`), throwing when an intermediate segment does not exist.
+// Walks the path. Returns the parent map of the last key, throwing when an intermediate segment
+// does not exist; with `create_option_maps`, a missing map segment inside an estimator's options
+// is created instead (the estimator's option table, not the options file, says which sections
+// exist: a file need not list the sections it leaves at their defaults).
 struct Walk {
   YAML::Node parent;     // map holding the last key
   std::string last_key;  // the last segment's key
   std::vector<std::size_t> last_indices;
 };
 
-Walk WalkPath(const YAML::Node& root, const std::string& path) {
+Walk WalkPath(const YAML::Node& root, const std::string& path, bool create_option_maps = false) {
   const std::vector<Segment> segments = SplitPath(path);
   YAML::Node node;
   node.reset(root);
   std::string walked;
+  bool in_estimator_options = false;
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Segment& segment = segments[s];
     const bool last = s + 1 == segments.size();
@@ -113,6 +116,7 @@ Walk WalkPath(const YAML::Node& root, const std::string& path) {
       if (element) {
         node.reset(sensors ? element : element["overrides"]);
         walked += "." + segment.key;
+        in_estimator_options = !sensors;
         continue;
       }
       if (!sensors) {
@@ -125,6 +129,10 @@ Walk WalkPath(const YAML::Node& root, const std::string& path) {
     }
     if (last && segment.indices.empty()) return {node, segment.key, {}};
     YAML::Node child = node[segment.key];
+    if (!child && create_option_maps && in_estimator_options && segment.indices.empty()) {
+      node[segment.key] = YAML::Node(YAML::NodeType::Map);
+      child.reset(node[segment.key]);
+    }
     if (!child) {
       std::string known = Keys(node);
       if (walked == "sensors") known += "; sensor ids: " + Ids(node["sensors"], "id");
@@ -213,7 +221,7 @@ YAML::Node ResolveScenario(const fs::path& scenario_file) {
 }
 
 void SetScenarioValue(YAML::Node& resolved, const std::string& path, const YAML::Node& value) {
-  Walk walk = WalkPath(resolved, path);
+  Walk walk = WalkPath(resolved, path, /*create_option_maps=*/true);
   if (!walk.last_indices.empty()) {
     walk.parent[walk.last_indices.front()] = YAML::Clone(value);
   } else {

@@ -28,6 +28,9 @@ YAML::Node ResolveScenario(const std::filesystem::path& scenario_file);
 
 // Sets the value at `path` (a clone of `value`). Every segment but the last must exist; the last
 // may be a new key of a map (whether it is a valid field is for the scenario's loader to say).
+// Inside an estimator's options (estimators.<label>....) a missing section is created as a map:
+// an options file lists only what it sets, and the estimator's loader says whether the section
+// and key exist.
 // Throws std::invalid_argument naming the first segment that does not exist and what exists
 // there.
 void SetScenarioValue(YAML::Node& resolved, const std::string& path, const YAML::Node& value);

@@ -274,6 +274,7 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
   const double dt = scenario.sumo.step_s;
   const long last_recorded = static_cast<long>(std::floor(scenario.duration_s / dt + 1e-9));
   const long last_step = last_recorded + static_cast<long>(std::ceil(options.max_tail_s / dt));
+  bool parked = scenario.ego.parked_s > 0.0;  // ego.parked_s: held at 0 m/s until then
   try {
     for (long k = 0; k <= last_step; ++k) {
       Simulation::step();
@@ -289,6 +290,11 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
                                    "' (departure position blocked?)");
         }
         libsumo::Vehicle::setLaneChangeMode(kEgoId, 0);  // no lane changes of any kind
+        if (parked) libsumo::Vehicle::setSpeed(kEgoId, 0.0);
+      }
+      if (parked && t_s >= scenario.ego.parked_s - 1e-9) {
+        libsumo::Vehicle::setSpeed(kEgoId, -1.0);  // the driver model moves it from the next step
+        parked = false;
       }
       if (Contains(Simulation::getStartingTeleportIDList(), kEgoId)) {
         scenario.ego.source.Fail("the ego got stuck at t = " + FormatNumber(t_s) +

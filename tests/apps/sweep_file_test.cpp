@@ -121,6 +121,26 @@ TEST_F(SweepFileTest, ShardsPartitionTheRuns) {
   EXPECT_EQ(ShardOf(runs, 1, 3).size(), 5u);
 }
 
+// An axis reaches every section of an estimator's options, also those its options file leaves at
+// their defaults (scenarios/estimators/factor_graph.yaml lists neither output_blend nor
+// imu_noise_estimation).
+TEST_F(SweepFileTest, AxesReachSectionsTheOptionsFileLeavesOut) {
+  const std::vector<SweepRun> runs = ExpandSweep(
+      LoadSweepFile(Write("seeds: [1]\n"
+                          "estimators: [fg_paper_inputs]\n"
+                          "axes:\n"
+                          "  blend: {path: estimators.fg_paper_inputs.output_blend.max_s, values: "
+                          "[0.0, 0.5]}\n"
+                          "  noise: {path: "
+                          "estimators.fg_paper_inputs.imu_noise_estimation.enabled, values: "
+                          "[false]}\n")),
+      "v1");
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_NE(runs[1].scenario_yaml.find("output_blend"), std::string::npos);
+  EXPECT_NE(runs[1].scenario_yaml.find("max_s: 0.5"), std::string::npos) << runs[1].scenario_yaml;
+  EXPECT_NE(runs[0].scenario_yaml.find("imu_noise_estimation"), std::string::npos);
+}
+
 TEST_F(SweepFileTest, BadFilesNameTheirLine) {
   // Unknown path (a block map: its line is that of its first key).
   std::string e = Error(
@@ -139,6 +159,12 @@ TEST_F(SweepFileTest, BadFilesNameTheirLine) {
   e = Error("seeds: [1]\naxes:\n  x: {path: estimators.fg_paper_inputs.window_sx, values: [1]}\n");
   EXPECT_NE(e.find("sweep.yaml:5:"), std::string::npos) << e;
   EXPECT_NE(e.find("window_sx"), std::string::npos) << e;
+  // A section the estimator does not have (the options file lists only some of the sections).
+  e = Error(
+      "seeds: [1]\naxes:\n  x: {path: estimators.fg_paper_inputs.output_blnd.max_s, values: "
+      "[1]}\n");
+  EXPECT_NE(e.find("sweep.yaml:5:"), std::string::npos) << e;
+  EXPECT_NE(e.find("output_blnd"), std::string::npos) << e;
   // Empty axis.
   e = Error("seeds: [1]\naxes:\n  x: {path: sensors.gnss_front.cep_m, values: []}\n");
   EXPECT_NE(e.find("sweep.yaml:5:"), std::string::npos) << e;

@@ -83,6 +83,12 @@ TEST_F(ScenarioResolutionTest, MissingPathsSayWhatExists) {
   EXPECT_NE(message("faults.gnss_outages[0].start_s").find("faults"), std::string::npos);
   EXPECT_NE(message("ego.route[99]").find("elements"), std::string::npos);
   EXPECT_NE(message("ego..loops").find("empty key"), std::string::npos);
+  // Only inside an estimator's options is a missing section created (its loader checks it).
+  EXPECT_NE(message("sensors.gnss_front.noise.sigma").find("noise"), std::string::npos);
+  EXPECT_EQ(message("estimators.fg_paper_inputs.output_blend.max_s"), "no error");
+  EXPECT_EQ(ScenarioValue(resolved, "estimators.fg_paper_inputs.output_blend.max_s").as<double>(),
+            1.0);
+  EXPECT_NE(message("estimators.fg_paper_inputs.gnss[0].x").find("gnss"), std::string::npos);
 }
 
 TEST_F(ScenarioResolutionTest, FingerprintFollowsContentNotLocation) {

@@ -225,6 +225,8 @@ TEST(Scenario, RejectsInconsistentSections) {
        "at least 1"},
       {base.network, "ego:\n  route: [A0A1]\n  car_follow_model: Wiedemann\n", base.rest,
        ":15:", "ego.car_follow_model", "IDM or Krauss"},
+      {base.network, "ego:\n  route: [A0A1]\n  depart_speed_mps: 2.0\n  parked_s: 10.0\n",
+       base.rest, ":16:", "ego.parked_s", "departs at 0 m/s"},
       {base.network, base.ego, "sumo:\n  step_s: 0.5\n", ":22:11", "sumo.step_s", "at most 0.1 s"},
       {"network:\n  generate: {grid: {}, spider: {}}\n", base.ego, base.rest, ":7:13",
        "network.generate", "exactly one of"},

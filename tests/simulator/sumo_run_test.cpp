@@ -244,5 +244,23 @@ TEST(SumoRun, EndsWhenTheEgoReachesTheEndOfItsRoute) {
   EXPECT_DOUBLE_EQ(run.result.ego.front().v_mps, 5.0);
 }
 
+// ego.parked_s: the ego stands at its departure position, then drives off as SUMO's driver
+// would.
+TEST(SumoRun, AParkedEgoStandsUntilParkedSThenDrivesOff) {
+  TempDir dir;
+  GridScenarioParts parts = MinuteParts(5);
+  parts.ego = "ego:\n  route: [A0A1, A1B1, B1B0, B0A0]\n  loops: 3\n  depart_pos_m: 5.0\n"
+              "  parked_s: 12.0\n";
+  const ScenarioRun run = Simulate(dir, "parked", parts);
+  const auto& ego = run.result.ego;
+  ASSERT_EQ(ego.size(), 601u);
+  for (std::size_t k = 0; k <= 120; ++k) {
+    EXPECT_EQ(ego[k].v_mps, 0.0) << ego[k].t_s;
+    EXPECT_EQ(ego[k].s_m, ego[0].s_m) << ego[k].t_s;
+  }
+  EXPECT_GT(ego[121].v_mps, 0.0);
+  EXPECT_GT(ego[200].s_m - ego[0].s_m, 10.0);
+}
+
 }  // namespace
 }  // namespace statebench::sim
