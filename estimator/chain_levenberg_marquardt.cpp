@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "estimator/bordered_chain.hpp"
+
 namespace statebench::est {
 namespace {
 
@@ -21,17 +23,20 @@ constexpr int kMaxConsecutiveInvalidSteps = 5;
 constexpr std::array<int, 4> kLmBlockSize{4, 3, 3, 6};
 constexpr std::array<int, 4> kLmTangentOffset{0, 3, 6, 9};
 
-// The chain's parameter values, 16 doubles per state.
-std::vector<double> ReadChainValues(const std::vector<ChainState>& chain) {
+// The chain's parameter values, 16 doubles per state, then the globals.
+std::vector<double> ReadChainValues(const std::vector<ChainState>& chain,
+                                    std::span<double* const> globals) {
   std::vector<double> x;
-  x.reserve(16 * chain.size());
+  x.reserve(16 * chain.size() + globals.size());
   for (const ChainState& s : chain) {
     for (int b = 0; b < 4; ++b) x.insert(x.end(), s.blocks[b], s.blocks[b] + kLmBlockSize[b]);
   }
+  for (double* g : globals) x.push_back(*g);
   return x;
 }
 
-void WriteChainValues(const std::vector<double>& x, const std::vector<ChainState>& chain) {
+void WriteChainValues(const std::vector<double>& x, const std::vector<ChainState>& chain,
+                      std::span<double* const> globals) {
   const double* from = x.data();
   for (const ChainState& s : chain) {
     for (int b = 0; b < 4; ++b) {
@@ -39,11 +44,13 @@ void WriteChainValues(const std::vector<double>& x, const std::vector<ChainState
       from += kLmBlockSize[b];
     }
   }
+  for (double* g : globals) *g = *from++;
 }
 
-// Writes x (+) delta into the chain's blocks (rotation blocks through the manifold).
+// Writes x (+) delta into the chain's blocks (rotation blocks through the manifold) and globals.
 bool PlusIntoChain(const std::vector<double>& x, const std::vector<Vec15>& delta,
-                   const std::vector<ChainState>& chain, const ceres::Manifold& rotation) {
+                   const Eigen::VectorXd& delta_global, const std::vector<ChainState>& chain,
+                   std::span<double* const> globals, const ceres::Manifold& rotation) {
   const double* from = x.data();
   for (std::size_t k = 0; k < chain.size(); ++k) {
     if (!rotation.Plus(from, delta[k].data(), chain[k].blocks[0])) return false;
@@ -55,12 +62,13 @@ bool PlusIntoChain(const std::vector<double>& x, const std::vector<Vec15>& delta
     }
     from += 16;
   }
+  for (std::size_t i = 0; i < globals.size(); ++i) *globals[i] = from[i] + delta_global(i);
   return true;
 }
 
 // max |x - (x (+) -g)|, Ceres' gradient_max_norm.
 double GradientMaxNorm(const std::vector<double>& x, const std::vector<Vec15>& g,
-                       const ceres::Manifold& rotation) {
+                       const Eigen::VectorXd& g_global, const ceres::Manifold& rotation) {
   double out = 0.0;
   const double* from = x.data();
   for (const Vec15& gk : g) {
@@ -71,21 +79,14 @@ double GradientMaxNorm(const std::vector<double>& x, const std::vector<Vec15>& g
     out = std::max(out, gk.tail<12>().lpNorm<Eigen::Infinity>());
     from += 16;
   }
+  if (g_global.size() > 0) out = std::max(out, g_global.lpNorm<Eigen::Infinity>());
   return out;
 }
 
-double ChainQuadratic(const ChainSystem& s, const std::vector<Vec15>& dx) {
-  double out = 0.0;  // dx^T H dx
-  for (std::size_t k = 0; k < dx.size(); ++k) {
-    out += dx[k].dot(s.D[k] * dx[k]);
-    if (k + 1 < dx.size()) out += 2.0 * dx[k].dot(s.B[k] * dx[k + 1]);
-  }
-  return out;
-}
-
-double ChainNorm(const std::vector<Vec15>& v) {
+double ChainNorm(const std::vector<Vec15>& v, const Eigen::VectorXd& v_global) {
   double sq = 0.0;
   for (const Vec15& x : v) sq += x.squaredNorm();
+  if (v_global.size() > 0) sq += v_global.squaredNorm();
   return std::sqrt(sq);
 }
 
@@ -93,13 +94,14 @@ double ChainNorm(const std::vector<Vec15>& v) {
 
 ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& chain,
                                                const ceres::Manifold& rotation,
-                                               const ChainSolveOptions& options) {
+                                               const ChainSolveOptions& options,
+                                               std::span<double* const> globals) {
   ChainSolveSummary out;
   if (chain.empty()) return out;
-  std::vector<double> x = ReadChainValues(chain);
+  std::vector<double> x = ReadChainValues(chain, globals);
   ChainSystem& system = out.system;
-  if (!LinearizeChain(chain, rotation, &system) || !std::isfinite(system.cost)) {
-    WriteChainValues(x, chain);
+  if (!LinearizeChain(chain, rotation, &system, globals) || !std::isfinite(system.cost)) {
+    WriteChainValues(x, chain, globals);
     return out;  // Ceres: evaluation failed at the start (FAILURE)
   }
   out.initial_cost = system.cost;
@@ -108,6 +110,9 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
   for (std::size_t k = 0; k < chain.size(); ++k) {
     scaling[k] = (1.0 + system.D[k].diagonal().array().sqrt()).inverse();
   }
+  const Eigen::VectorXd global_scaling =
+      (1.0 + system.E.diagonal().array().sqrt()).inverse().matrix();
+  Eigen::VectorXd global_damping(globals.size()), dx_global;
   double radius = options.initial_trust_region_radius;
   double decrease_factor = 2.0;
   int invalid_in_a_row = 0;
@@ -118,7 +123,10 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
 
   const auto can_continue = [&] {
     if (iteration >= options.max_iterations) return false;  // NO_CONVERGENCE, usable
-    if (successful && GradientMaxNorm(x, system.g, rotation) <= kGradientTolerance) return false;
+    if (successful && GradientMaxNorm(x, system.g, system.g_global, rotation) <=
+                          kGradientTolerance) {
+      return false;
+    }
     return radius > kMinTrustRegionRadius;
   };
   const auto reject = [&] {
@@ -135,12 +143,18 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
                           .min(kMaxLmDiagonal);
       damping[k] = (d.array() / radius / s2.array()).matrix();
     }
+    for (Eigen::Index i = 0; i < global_damping.size(); ++i) {
+      const double s2 = global_scaling(i) * global_scaling(i);
+      const double d = std::clamp(s2 * system.E(i, i), kMinLmDiagonal, kMaxLmDiagonal);
+      global_damping(i) = d / radius / s2;
+    }
     double model_change = 0.0;
-    bool valid = SolveChain(system, damping, &dx);
+    bool valid = SolveBorderedChain(system, damping, global_damping, &dx, &dx_global);
     if (valid) {
       double g_dx = 0.0;
       for (std::size_t k = 0; k < dx.size(); ++k) g_dx += system.g[k].dot(dx[k]);
-      model_change = -(g_dx + 0.5 * ChainQuadratic(system, dx));
+      if (dx_global.size() > 0) g_dx += system.g_global.dot(dx_global);
+      model_change = -(g_dx + 0.5 * BorderedChainQuadratic(system, dx, dx_global));
       valid = std::isfinite(model_change) && model_change > 0.0;
     }
     if (!valid) {
@@ -153,11 +167,12 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
     }
     invalid_in_a_row = 0;
     double candidate_cost = std::numeric_limits<double>::max();
-    if (!PlusIntoChain(x, dx, chain, rotation) || !ChainCost(chain, &candidate_cost) ||
+    if (!PlusIntoChain(x, dx, dx_global, chain, globals, rotation) ||
+        !ChainCost(chain, &candidate_cost) ||
         !std::isfinite(candidate_cost)) {
       candidate_cost = std::numeric_limits<double>::max();
     }
-    if (ChainNorm(dx) <= kParameterTolerance * (x_norm + kParameterTolerance)) {
+    if (ChainNorm(dx, dx_global) <= kParameterTolerance * (x_norm + kParameterTolerance)) {
       --iteration;  // Ceres returns before recording this iteration
       break;
     }
@@ -168,11 +183,12 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
     const double relative_decrease = (system.cost - candidate_cost) / model_change;
     if (relative_decrease > kMinRelativeDecrease) {
       ChainSystem relinearized;
-      if (!LinearizeChain(chain, rotation, &relinearized) || !std::isfinite(relinearized.cost)) {
+      if (!LinearizeChain(chain, rotation, &relinearized, globals) ||
+          !std::isfinite(relinearized.cost)) {
         failed = true;
         break;
       }
-      x = ReadChainValues(chain);
+      x = ReadChainValues(chain, globals);
       x_norm = Eigen::Map<const Eigen::VectorXd>(x.data(), x.size()).norm();
       system = std::move(relinearized);
       radius /= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * relative_decrease - 1.0, 3));
@@ -183,7 +199,7 @@ ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& ch
       reject();
     }
   }
-  WriteChainValues(x, chain);  // the last accepted values
+  WriteChainValues(x, chain, globals);  // the last accepted values
   out.iterations = iteration;
   out.final_cost = system.cost;
   out.usable = !failed && std::isfinite(system.cost);

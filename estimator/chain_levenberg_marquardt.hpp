@@ -40,9 +40,12 @@ struct ChainSolveSummary {
   ChainSystem system;
 };
 
-// Optimises the chain's blocks in place (rotation blocks on `rotation`).
+// Optimises the chain's blocks and the global scalars in place (rotation blocks on `rotation`;
+// with globals the step is the bordered solve of bordered_chain.hpp, each global damped and
+// scaled as a state's coordinate is).
 ChainSolveSummary SolveChainLevenbergMarquardt(const std::vector<ChainState>& chain,
                                                const ceres::Manifold& rotation,
-                                               const ChainSolveOptions& options);
+                                               const ChainSolveOptions& options,
+                                               std::span<double* const> globals = {});
 
 }  // namespace statebench::est

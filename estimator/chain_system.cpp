@@ -1,5 +1,7 @@
 #include "estimator/chain_system.hpp"
 
+#include "estimator/bordered_chain.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -50,15 +52,31 @@ struct ChainCorrector {
 struct ChainScratch {
   std::vector<double> r_buffer, ambient_buffer, J_buffer;
   std::vector<double*> ambient_ptrs;
+  Eigen::MatrixXd J_global;  // m x G, the factor's columns of the globals
 };
+
+// The border of one pair system (anchor, next): what the factors add to C (30 x G), E, g_global.
+struct ChainBorderSums {
+  Eigen::Matrix<double, 30, Eigen::Dynamic> C;
+  Eigen::MatrixXd E;
+  Eigen::VectorXd g;
+};
+
+int ChainGlobalSlot(std::span<double* const> globals, const double* block) {
+  for (std::size_t i = 0; i < globals.size(); ++i) {
+    if (globals[i] == block) return static_cast<int>(i);
+  }
+  return -1;
+}
 
 using ChainAmbientMap = Eigen::Map<const ChainAmbient>;
 
 // Adds one factor's J^T J (lower triangle) and J^T r to the pair system (anchor, next); its cost
 // to *cost.
+// Its columns of the globals, if it has any, go to border.
 bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const ChainState* next,
-                    const ceres::Manifold& rotation, ChainScratch& s, Mat30& H, Vec30& g,
-                    double* cost) {
+                    const ceres::Manifold& rotation, std::span<double* const> globals,
+                    ChainScratch& s, Mat30& H, Vec30& g, ChainBorderSums& border, double* cost) {
   const int m = f.cost->num_residuals();
   const auto& sizes = f.cost->parameter_block_sizes();
   int ambient_total = 0;
@@ -78,9 +96,17 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
   Eigen::Map<ChainJacobian> J(s.J_buffer.data(), m, 30);
   J.setZero();
   std::array<bool, 30> touched{};  // columns the factor's blocks fill (the rest stay zero)
+  bool touches_global = false;
   for (std::size_t b = 0; b < sizes.size(); ++b) {
     const int slot = ChainSlot(anchor, next, f.blocks[b]);
-    if (slot < 0) return false;
+    if (slot < 0) {
+      const int column = ChainGlobalSlot(globals, f.blocks[b]);
+      if (column < 0 || sizes[b] != 1) return false;
+      if (!touches_global) s.J_global.setZero(m, static_cast<Eigen::Index>(globals.size()));
+      touches_global = true;
+      s.J_global.col(column) += ChainAmbientMap(s.ambient_ptrs[b], m, 1);
+      continue;
+    }
     const int offset = kChainTangentOffset[slot % 4] + 15 * (slot / 4);
     const int size = kChainTangentSize[slot % 4];
     const ChainAmbientMap ambient(s.ambient_ptrs[b], m, sizes[b]);
@@ -104,8 +130,13 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     if (c.alpha_sq_norm != 0.0) {
       const Eigen::RowVectorXd rtJ = r.transpose() * J;
       J -= c.alpha_sq_norm * r * rtJ;
+      if (touches_global) {
+        const Eigen::RowVectorXd rtJg = r.transpose() * s.J_global;
+        s.J_global -= c.alpha_sq_norm * r * rtJg;
+      }
     }
     J *= c.sqrt_rho1;
+    if (touches_global) s.J_global *= c.sqrt_rho1;
     r *= c.residual_scaling;
   }
   // Column dot products over the columns the factor touches (contiguous, vectorised). A column
@@ -122,6 +153,13 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
       H(i, j) += J.col(i).dot(J.col(j));
     }
     g(j) += J.col(j).dot(r);
+  }
+  if (touches_global) {
+    for (int a = 0; a < count; ++a) {
+      border.C.row(columns[a]) += J.col(columns[a]).transpose() * s.J_global;
+    }
+    border.E.noalias() += s.J_global.transpose() * s.J_global;
+    border.g.noalias() += s.J_global.transpose() * r;
   }
   return true;
 }
@@ -169,21 +207,32 @@ bool ChainCost(const std::vector<ChainState>& chain, double* cost) {
 }
 
 bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold& rotation,
-                    ChainSystem* system) {
+                    ChainSystem* system, std::span<double* const> globals) {
   const std::size_t n = chain.size();
+  const auto num_globals = static_cast<Eigen::Index>(globals.size());
   system->D.assign(n, Mat15::Zero());
   system->B.assign(n > 0 ? n - 1 : 0, Mat15::Zero());
   system->g.assign(n, Vec15::Zero());
+  system->C.assign(num_globals > 0 ? n : 0, Eigen::MatrixXd::Zero(15, num_globals));
+  system->E = Eigen::MatrixXd::Zero(num_globals, num_globals);
+  system->g_global = Eigen::VectorXd::Zero(num_globals);
   system->cost = 0.0;
   ChainScratch scratch;
+  ChainBorderSums border{Eigen::MatrixXd::Zero(30, num_globals), system->E, system->g_global};
   for (std::size_t k = 0; k < n; ++k) {
     const ChainState* next = k + 1 < n ? &chain[k + 1] : nullptr;
     Mat30 H = Mat30::Zero();
     Vec30 g = Vec30::Zero();
     for (const FactorRecord* f : chain[k].factors) {
-      if (!AddChainFactor(*f, chain[k], next, rotation, scratch, H, g, &system->cost)) {
+      if (!AddChainFactor(*f, chain[k], next, rotation, globals, scratch, H, g, border,
+                          &system->cost)) {
         return false;
       }
+    }
+    if (num_globals > 0) {
+      system->C[k] += border.C.topRows<15>();
+      if (next != nullptr) system->C[k + 1] += border.C.bottomRows<15>();
+      border.C.setZero();
     }
     H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
     system->D[k] += H.topLeftCorner<15, 15>();
@@ -194,41 +243,63 @@ bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold&
       system->g[k + 1] += g.tail<15>();
     }
   }
+  system->E = border.E;
+  system->g_global = border.g;
   return true;
+}
+
+bool FactorChain(const ChainSystem& system, const std::vector<Vec15>& damping,
+                 ChainFactorization* f) {
+  // S_k = L_k L_k^T = D_k + diag(damping_k) - V_{k-1}^T V_{k-1},  V_k = L_k^-1 B_k.
+  const std::size_t n = system.D.size();
+  f->L.resize(n);
+  f->V.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Mat15 S = system.D[k];
+    if (k > 0) S.noalias() -= f->V[k - 1].transpose().lazyProduct(f->V[k - 1]);
+    S.diagonal() += damping[k];
+    f->L[k].compute(S);
+    if (f->L[k].info() != Eigen::Success) return false;
+    if (k + 1 < n) f->V[k] = f->L[k].matrixL().solve(system.B[k]);
+  }
+  return true;
+}
+
+void SolveFactoredChain(const ChainFactorization& f, const std::vector<Vec15>& rhs,
+                        std::vector<Vec15>* x) {
+  // Forward u_k = L_k^-1 (rhs_k - V_{k-1}^T u_{k-1}); backward x_k = L_k^-T (u_k - V_k x_{k+1}).
+  const std::size_t n = f.L.size();
+  std::vector<Vec15> u(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    Vec15 y = rhs[k];
+    if (k > 0) y.noalias() -= f.V[k - 1].transpose() * u[k - 1];
+    u[k] = f.L[k].matrixL().solve(y);
+  }
+  x->resize(n);
+  for (std::size_t k = n; k-- > 0;) {
+    Vec15 w = u[k];
+    if (k + 1 < n) w.noalias() -= f.V[k] * (*x)[k + 1];
+    (*x)[k] = f.L[k].matrixU().solve(w);
+  }
 }
 
 bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
                 std::vector<Vec15>* dx) {
-  // Forward, with S_k = L_k L_k^T = D_k + diag(damping_k) - V_{k-1}^T V_{k-1}:
-  //   V_k = L_k^-1 B_k,  u_k = L_k^-1 (-g_k - V_{k-1}^T u_{k-1})
-  // Backward: dx_k = L_k^-T (u_k - V_k dx_{k+1}).
-  const std::size_t n = system.D.size();
-  std::vector<Eigen::LLT<Mat15>> L(n);
-  std::vector<Mat15> V(n);
-  std::vector<Vec15> u(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    Mat15 S = system.D[k];
-    Vec15 y = -system.g[k];
-    if (k > 0) {
-      S.noalias() -= V[k - 1].transpose().lazyProduct(V[k - 1]);
-      y.noalias() -= V[k - 1].transpose() * u[k - 1];
-    }
-    S.diagonal() += damping[k];
-    L[k].compute(S);
-    if (L[k].info() != Eigen::Success) return false;
-    u[k] = L[k].matrixL().solve(y);
-    if (k + 1 < n) V[k] = L[k].matrixL().solve(system.B[k]);
-  }
-  dx->resize(n);
-  for (std::size_t k = n; k-- > 0;) {
-    Vec15 w = u[k];
-    if (k + 1 < n) w.noalias() -= V[k] * (*dx)[k + 1];
-    (*dx)[k] = L[k].matrixU().solve(w);
-  }
+  ChainFactorization f;
+  if (!FactorChain(system, damping, &f)) return false;
+  std::vector<Vec15> rhs(system.g.size());
+  for (std::size_t k = 0; k < rhs.size(); ++k) rhs[k] = -system.g[k];
+  SolveFactoredChain(f, rhs, dx);
   return true;
 }
 
+Eigen::Matrix<double, 15, Eigen::Dynamic> EliminateChainBlock(
+    const Mat15& S, const Eigen::Matrix<double, 15, Eigen::Dynamic>& rhs) {
+  return ChainEliminate<Eigen::Dynamic>(S, rhs);
+}
+
 Mat15 NewestMarginalInformation(const ChainSystem& system) {
+  if (system.num_globals() > 0) return MarginalsOfBorderedChain(system).newest_information;
   Mat15 S = system.D.front();
   for (std::size_t k = 0; k + 1 < system.D.size(); ++k) {
     const Mat15 X = ChainEliminate<15>(S, system.B[k]);

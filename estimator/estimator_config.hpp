@@ -145,6 +145,12 @@ struct MeasurementGateOptions {
   // GNSS positions only: a fix whose vertical sigma is above this (or not given) is used
   // horizontally only (measurement_gate.hpp, FixUse); max_sigma then tests the horizontal part.
   double max_vertical_sigma = 5.0;
+  // GNSS positions only: estimate each receiver's time offset to the IMU (how late its stamps
+  // are) as a state of the smoother (gnss_time_offset_factor.hpp), with the prior N(0, sigma^2)
+  // and held within +-time_offset_max_s.
+  bool estimate_time_offset = false;
+  double time_offset_prior_sigma_s = 0.2;
+  double time_offset_max_s = 0.5;
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_

@@ -45,6 +45,21 @@ std::string_view RejectReasonName(RejectReason reason);
 using VerdictObserver = std::function<void(const std::string& sensor_id, TimeNs stamp_ns,
                                            std::optional<RejectReason> rejected)>;
 
+// A GNSS receiver's time offset to the IMU as the smoother estimates it (gnss.estimate_time_offset;
+// sign: gnss_time_offset_factor.hpp).
+struct TimeOffsetDiagnostics {
+  double offset_s = 0.0;
+  double sigma_s = 0.0;  // marginal of the last solve
+  int clamped = 0;       // solves after which it was held at its bound
+  struct Sample {
+    TimeNs t_ns = 0;
+    double offset_s = 0.0;
+    double sigma_s = 0.0;
+  };
+  std::vector<Sample> history;  // one per kTimeOffsetHistoryPeriodS of solves
+};
+inline constexpr double kTimeOffsetHistoryPeriodS = 1.0;
+
 struct SensorCounters {
   std::uint64_t received = 0;
   std::uint64_t accepted = 0;
@@ -59,6 +74,7 @@ struct SensorCounters {
   // The factor the estimator applies to the reported covariance, when it adapts it (GNSS
   // positions: innovation_scale.hpp); nullopt while it never changed from 1.
   std::optional<double> covariance_scale;
+  std::optional<TimeOffsetDiagnostics> time_offset;  // GNSS receivers, when estimated
 
   // Counts an accepted measurement stamped stamp_ns.
   void Accept(TimeNs stamp_ns);

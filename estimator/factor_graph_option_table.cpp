@@ -52,7 +52,13 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
            "scale the reported covariance up when the innovations say it is too small")
         .Number("max_vertical_sigma_m", &MeasurementGateOptions::max_vertical_sigma,
                 Range::Positive(),
-                "a fix with a larger (or no) vertical sigma is used horizontally only");
+                "a fix with a larger (or no) vertical sigma is used horizontally only")
+        .Flag("estimate_time_offset", &MeasurementGateOptions::estimate_time_offset,
+              "estimate each receiver's time offset to the IMU in the smoother")
+        .Number("time_offset_prior_sigma_s", &MeasurementGateOptions::time_offset_prior_sigma_s,
+                Range::Positive(), "prior sigma of the time offset around 0 (s)")
+        .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s,
+                Range::Positive(), "the time offset is held within +- this (s)");
   }
   return t;
 }

@@ -106,6 +106,7 @@ void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
 }
 
 void GnssFrontEnd::OnRestart() {
+  time_offsets_.clear();  // the new smoother has none
   accepted_.clear();
   refused_.Clear();
   alignment_.Clear();
@@ -136,7 +137,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     scale = &covariance_scales_.try_emplace(id, 3, options_.gnss.gate_chi2).first->second;
     fix.covariance *= scale->scale();
   }
-  if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns)) {
+  const double offset_s = TimeOffsetEstimate(id);
+  if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns - FromSeconds(offset_s))) {
     fix.covariance += PositionCalibrationCovariance(
         options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
     const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
@@ -160,7 +162,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     }
   }
   refused_.Clear();
-  if (ctx_.smoother.AddGnss(fix, lever) == AddResult::kTooOld) {
+  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id)) == AddResult::kTooOld) {
     return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kTooOld);
   }
   gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
@@ -282,15 +284,54 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
 
 // Measurements anchored at states that left the window are final: compare their whitened
 // residual at the final estimate with the robust kernel's scale.
+std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
+  if (!options_.gnss.estimate_time_offset) return std::nullopt;
+  auto it = time_offsets_.find(antenna_id);
+  if (it == time_offsets_.end()) {
+    const int index = ctx_.smoother.AddTimeOffset(
+        antenna_id, options_.gnss.time_offset_prior_sigma_s, options_.gnss.time_offset_max_s);
+    it = time_offsets_.emplace(antenna_id, index).first;
+  }
+  return it->second;
+}
+
+double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
+  const auto it = time_offsets_.find(antenna_id);
+  if (it == time_offsets_.end()) return 0.0;
+  return ctx_.smoother.TimeOffsets()[it->second].offset_s;
+}
+
+void GnssFrontEnd::RecordTimeOffsets() {
+  if (time_offsets_.empty()) return;
+  const TimeNs t = ctx_.smoother.NewestState().t_ns;
+  const auto estimates = ctx_.smoother.TimeOffsets();
+  for (const auto& [id, index] : time_offsets_) {
+    const SlidingWindowSmoother::TimeOffsetEstimate& e = estimates[index];
+    std::optional<TimeOffsetDiagnostics>& d = ctx_.Counters(id).time_offset;
+    if (!d) d.emplace();
+    d->offset_s = e.offset_s;
+    d->sigma_s = e.sigma_s;
+    d->clamped = e.num_clamped;
+    if (d->history.empty() ||
+        t - d->history.back().t_ns >= FromSeconds(kTimeOffsetHistoryPeriodS)) {
+      d->history.push_back({t, e.offset_s, e.sigma_s});
+    }
+  }
+}
+
 void GnssFrontEnd::OnMarginalized(std::span<const NavState> left) {
+  RecordTimeOffsets();
   if (left.empty()) return;
   const TimeNs t_window = ctx_.smoother.WindowStates().front().t_ns;
   while (!accepted_.empty() && accepted_.front().stamp_ns < t_window) {
     const Accepted& a = accepted_.front();
-    auto it = std::upper_bound(left.begin(), left.end(), a.stamp_ns,
+    // A fix is the antenna at its stamp minus the receiver's time offset (0 unless estimated).
+    const TimeNs t_taken =
+        a.stamp_ns - FromSeconds(a.is_heading ? 0.0 : TimeOffsetEstimate(a.sensor_id));
+    auto it = std::upper_bound(left.begin(), left.end(), t_taken,
                                [](TimeNs t, const NavState& s) { return t < s.t_ns; });
     if (it != left.begin()) {
-      const PropagatedState at{ctx_.output.Carry(*std::prev(it), a.stamp_ns), Mat15::Zero()};
+      const PropagatedState at{ctx_.output.Carry(*std::prev(it), t_taken), Mat15::Zero()};
       const double d2 =
           a.is_heading ? HeadingMahalanobisSquared(at, a.baseline_imu, a.heading)
                        : GnssMahalanobisSquared(at, a.p_imu_antenna, a.fix.p_enu, a.fix.covariance);

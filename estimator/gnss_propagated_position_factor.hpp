@@ -45,6 +45,8 @@ class GnssPropagatedPositionFactor final : public ceres::SizedCostFunction<3, 4,
 
   // The fix covariance with the propagation uncertainty added.
   const Mat3& effective_covariance() const { return effective_covariance_; }
+  const Mat3& sqrt_information() const { return sqrt_information_; }
+  const ImuPreintegration& propagation() const { return propagation_; }
 
  private:
   const Vec3 p_enu_measured_;

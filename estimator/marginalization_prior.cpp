@@ -12,18 +12,7 @@ namespace statebench::est {
 MarginalizationPrior::MarginalizationPrior(const StateParameters& x0, const Mat15& information,
                                            const Vec15& gradient)
     : x0_(x0) {
-  const Eigen::SelfAdjointEigenSolver<Mat15> eig(0.5 * (information + information.transpose()));
-  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
-  Vec15 sqrt_l = Vec15::Zero(), inv_sqrt_l = Vec15::Zero();
-  for (int i = 0; i < 15; ++i) {
-    const double l = eig.eigenvalues()(i);
-    if (l > threshold) {
-      sqrt_l(i) = std::sqrt(l);
-      inv_sqrt_l(i) = 1.0 / sqrt_l(i);
-    }
-  }
-  J_ = sqrt_l.asDiagonal() * eig.eigenvectors().transpose();
-  r0_ = inv_sqrt_l.asDiagonal() * eig.eigenvectors().transpose() * gradient;
+  SqrtFactorOfInformation(information, gradient, &J_, &r0_);
 }
 
 MarginalizationPrior* MarginalizationPrior::FromCovariance(const NavState& mean,
@@ -33,18 +22,42 @@ MarginalizationPrior* MarginalizationPrior::FromCovariance(const NavState& mean,
                                   Vec15::Zero());
 }
 
-Vec15 MarginalizationPrior::Delta(double const* const* parameters) const {
+Vec15 StateDelta(const StateParameters& x0, double const* const* parameters) {
   const Eigen::Map<const Quat> q(parameters[0]);
-  const Eigen::Map<const Quat> q0(x0_.q_world_imu.data());
+  const Eigen::Map<const Quat> q0(x0.q_world_imu.data());
   Vec15 dx;
   dx.segment<3>(kRotationIndex) = so3::Log<double>(q0.conjugate() * q.normalized());
   dx.segment<3>(kPositionIndex) =
-      Eigen::Map<const Vec3>(parameters[1]) - Eigen::Map<const Vec3>(x0_.p_world.data());
+      Eigen::Map<const Vec3>(parameters[1]) - Eigen::Map<const Vec3>(x0.p_world.data());
   dx.segment<3>(kVelocityIndex) =
-      Eigen::Map<const Vec3>(parameters[2]) - Eigen::Map<const Vec3>(x0_.v_world.data());
+      Eigen::Map<const Vec3>(parameters[2]) - Eigen::Map<const Vec3>(x0.v_world.data());
   dx.segment<6>(kGyroBiasIndex) =
-      Eigen::Map<const Vec6>(parameters[3]) - Eigen::Map<const Vec6>(x0_.bias.data());
+      Eigen::Map<const Vec6>(parameters[3]) - Eigen::Map<const Vec6>(x0.bias.data());
   return dx;
+}
+
+void StateBlockJacobians(const Eigen::Ref<const Eigen::MatrixXd>& J_state, const Vec15& dx,
+                         const double* q, double** jacobians) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::Index rows = J_state.rows();
+  if (jacobians[0] != nullptr) {
+    const Mat3 jr_inv = so3::RightJacobianInverse(dx.segment<3>(kRotationIndex));
+    Eigen::Map<RowMajor>(jacobians[0], rows, 4) =
+        J_state.middleCols<3>(kRotationIndex) * jr_inv * QuaternionMinusJacobian(q);
+  }
+  if (jacobians[1] != nullptr) {
+    Eigen::Map<RowMajor>(jacobians[1], rows, 3) = J_state.middleCols<3>(kPositionIndex);
+  }
+  if (jacobians[2] != nullptr) {
+    Eigen::Map<RowMajor>(jacobians[2], rows, 3) = J_state.middleCols<3>(kVelocityIndex);
+  }
+  if (jacobians[3] != nullptr) {
+    Eigen::Map<RowMajor>(jacobians[3], rows, 6) = J_state.middleCols<6>(kGyroBiasIndex);
+  }
+}
+
+Vec15 MarginalizationPrior::Delta(double const* const* parameters) const {
+  return StateDelta(x0_, parameters);
 }
 
 bool MarginalizationPrior::Evaluate(double const* const* parameters, double* residuals,

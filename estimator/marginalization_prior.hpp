@@ -19,10 +19,42 @@
 
 #include <ceres/sized_cost_function.h>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
 #include "core/eigen_types.hpp"
 #include "estimator/state_parameters.hpp"
 
 namespace statebench::est {
+
+// J and r0 with J^T J = H and J^T r0 = g from H = V diag(l) V^T (rows with l below 1e-12 of the
+// largest are zero): J = diag(sqrt(l)) V^T, r0 = diag(1/sqrt(l)) V^T g.
+template <typename Matrix, typename Vector>
+void SqrtFactorOfInformation(const Matrix& information, const Vector& gradient, Matrix* J,
+                             Vector* r0) {
+  const Eigen::SelfAdjointEigenSolver<Matrix> eig(0.5 * (information + information.transpose()));
+  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
+  Vector sqrt_l = Vector::Zero(gradient.size()), inv_sqrt_l = Vector::Zero(gradient.size());
+  for (Eigen::Index i = 0; i < gradient.size(); ++i) {
+    const double l = eig.eigenvalues()(i);
+    if (l > threshold) {
+      sqrt_l(i) = std::sqrt(l);
+      inv_sqrt_l(i) = 1.0 / sqrt_l(i);
+    }
+  }
+  *J = sqrt_l.asDiagonal() * eig.eigenvectors().transpose();
+  *r0 = inv_sqrt_l.asDiagonal() * eig.eigenvectors().transpose() * gradient;
+}
+
+// dx = x [-] x0 for a state's four blocks (q, p, v, bias), core/state.hpp ordering.
+Vec15 StateDelta(const StateParameters& x0, double const* const* parameters);
+
+// The prior's residual rows' Jacobians w.r.t. the state's four blocks (ambient, row-major into
+// jacobians[0..3], each skipped when null) from its tangent Jacobian J_state (rows x 15) at
+// dx = StateDelta(...).
+void StateBlockJacobians(const Eigen::Ref<const Eigen::MatrixXd>& J_state, const Vec15& dx,
+                         const double* q, double** jacobians);
 
 class MarginalizationPrior final : public ceres::SizedCostFunction<15, 4, 3, 3, 6> {
  public:

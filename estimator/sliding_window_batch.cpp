@@ -27,8 +27,12 @@ SmootherBatch SlidingWindowSmoother::SolveBatch(int max_iterations) {
       chain[k].factors.push_back(&f.record);
     }
   }
+  // The globals (time offsets) are solved with the states; their initial priors are in the
+  // store, anchored where they were created.
+  const std::vector<double*> globals = m.GlobalBlocks();
   const ChainSolveSummary solve = SolveChainLevenbergMarquardt(
-      chain, m.manifold, ChainSolveOptions{max_iterations, m.options.initial_trust_region_radius});
+      chain, m.manifold, ChainSolveOptions{max_iterations, m.options.initial_trust_region_radius},
+      globals);
   m.newest_information.reset();  // the window's values changed
   SmootherBatch out;
   out.usable = solve.usable;

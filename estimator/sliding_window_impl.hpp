@@ -14,13 +14,17 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "estimator/bias_random_walk_factor.hpp"
+#include "estimator/bordered_chain.hpp"
+#include "estimator/bordered_marginalization_prior.hpp"
 #include "estimator/chain_system.hpp"
 #include "estimator/dual_antenna_factor.hpp"
 #include "estimator/gnss_propagated_position_factor.hpp"
+#include "estimator/gnss_time_offset_factor.hpp"
 #include "estimator/imu_factor.hpp"
 #include "estimator/imu_preintegration.hpp"
 #include "estimator/linear_system.hpp"
@@ -44,7 +48,8 @@ struct SlidingWindowSmoother::Impl {
     kHeading,
     kRelativePose,
     kVelocity,
-    kZeroRate
+    kZeroRate,
+    kGlobalPrior  // on a global alone (the time offset's initial prior)
   };
 
   // The node owns its factors' cost and loss functions (the problem does not): a state that
@@ -111,6 +116,25 @@ struct SlidingWindowSmoother::Impl {
   // The newest state's information from the last chain solve's final linearisation; cleared by
   // any change of the window's factors.
   std::optional<Mat15> newest_information;
+  // Global scalars (GNSS time offsets): values at stable addresses, in the border's order.
+  struct Global {
+    std::string name;
+    double max_abs = 0.0;
+    std::unique_ptr<double> value;
+    double sigma = 0.0;    // marginal, from the last solve (0 before one)
+    int num_clamped = 0;   // solves after which it was held at +-max_abs
+  };
+  std::vector<Global> globals;
+
+  std::vector<double*> GlobalBlocks() const {
+    std::vector<double*> out;
+    for (const Global& g : globals) out.push_back(g.value.get());
+    return out;
+  }
+  // After a usable solve: the globals' marginal sigmas from the solve's final linearisation
+  // (`system`, or a new one when null), then each global held within its bound. Returns the
+  // newest state's marginal information of that linearisation.
+  Mat15 UpdateGlobals(const ChainSystem* system);
 
   void AddBlocks(Node& n) {
     problem.AddParameterBlock(n.x.q_world_imu.data(), 4, &manifold);
@@ -159,7 +183,18 @@ struct SlidingWindowSmoother::Impl {
     states.push_back(std::move(node));
   }
 
-  void AttachGnss(Node& anchor, const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
+  void AttachGnss(Node& anchor, const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
+                  std::optional<int> time_offset) {
+    if (time_offset) {
+      double* offset = globals[*time_offset].value.get();
+      auto* cost = new GnssTimeOffsetFactor(fix.p_enu, fix.covariance, p_imu_antenna,
+                                            Preintegrate(anchor, fix.header.stamp_ns),
+                                            anchor.State().q_world_imu, GyroAt(fix.header.stamp_ns));
+      AddFactor(anchor, FactorKind::kGnss, cost, options.gnss_kernel.MakeLossFunction().release(),
+                {anchor.x.q_world_imu.data(), anchor.x.p_world.data(), anchor.x.v_world.data(),
+                 anchor.x.bias.data(), offset});
+      return;
+    }
     auto* cost = new GnssPropagatedPositionFactor(fix.p_enu, fix.covariance, p_imu_antenna,
                                                   Preintegrate(anchor, fix.header.stamp_ns),
                                                   anchor.State().q_world_imu);
@@ -253,7 +288,8 @@ struct SlidingWindowSmoother::Impl {
     }
   }
 
-  // The parameter blocks of neighbouring states in the order of their factors' Jacobians.
+  // The parameter blocks of neighbouring states in the order of their factors' Jacobians, then
+  // the globals.
   BlockLayout Layout(std::initializer_list<Node*> nodes) const {
     BlockLayout layout;
     for (Node* n : nodes) {
@@ -263,7 +299,27 @@ struct SlidingWindowSmoother::Impl {
       layout.Add(blocks[2], 3, nullptr);
       layout.Add(blocks[3], 6, nullptr);
     }
+    for (const Global& g : globals) layout.Add(g.value.get(), 1, nullptr);
     return layout;
+  }
+
+  // The prior the Schur complement `kept` ((15 + G) dims: next's tangent, then the globals)
+  // leaves on `next` and the globals.
+  void AddMarginalizationPrior(Node& next, const LinearSystem& kept) {
+    if (globals.empty()) {
+      AddFactor(next, FactorKind::kPrior, new MarginalizationPrior(next.x, kept.H, kept.g),
+                nullptr, next.Blocks());
+      return;
+    }
+    Eigen::VectorXd values(globals.size());
+    std::vector<double*> blocks = next.Blocks();
+    for (std::size_t i = 0; i < globals.size(); ++i) {
+      values(static_cast<Eigen::Index>(i)) = *globals[i].value;
+      blocks.push_back(globals[i].value.get());
+    }
+    AddFactor(next, FactorKind::kPrior,
+              new BorderedMarginalizationPrior(next.x, values, kept.H, kept.g), nullptr,
+              std::move(blocks));
   }
 
   void MarginalizeOldest() {
@@ -277,8 +333,7 @@ struct SlidingWindowSmoother::Impl {
     num_left_out += system.num_skipped;
     const LinearSystem kept = SchurComplement(system, 15);
 
-    auto* prior = new MarginalizationPrior(next.x, kept.H, kept.g);
-    AddFactor(next, FactorKind::kPrior, prior, nullptr, next.Blocks());
+    AddMarginalizationPrior(next, kept);
     // The old state's factors go first, in the order they were added: removing a parameter
     // block removes its residual blocks in the order of a hash set of pointers, which would
     // reorder the rest of the problem (and the floating-point sums of every later solve) by
@@ -330,6 +385,12 @@ struct SlidingWindowSmoother::Impl {
   }
 
   Mat15 NewestInformation() const {
+    if (!globals.empty()) {
+      ChainSystem system;
+      const std::vector<double*> blocks = GlobalBlocks();
+      LinearizeChain(Chain(), manifold, &system, blocks);
+      return NewestMarginalInformation(system);
+    }
     Mat15 carried = Mat15::Zero();
     for (std::size_t k = 0; k < states.size(); ++k) {
       Node& n = *states[k];

@@ -90,14 +90,19 @@ void SlidingWindowSmoother::Initialize(const NavState& state, const Mat15& covar
   if (m.options.keep_all_states || m.options.keep_lagged_states) m.all_imu = m.imu;
 }
 
-AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna) {
+AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
+                                         std::optional<int> time_offset) {
   Impl& m = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: gnss fix before initialization");
   SqrtInformation<3>(fix.covariance, "gnss fix '" + fix.header.sensor_id + "'");  // validates
   if (!p_imu_antenna.allFinite()) throw InputError("gnss fix: non-finite lever arm");
+  if (time_offset && (*time_offset < 0 || *time_offset >= static_cast<int>(m.globals.size()))) {
+    throw InputError("gnss fix: unknown time offset index");
+  }
   const TimeNs t = fix.header.stamp_ns;
-  return m.Add({Impl::FactorKind::kGnss, t, t,
-                [&m, fix, p_imu_antenna](Impl::Node& a) { m.AttachGnss(a, fix, p_imu_antenna); }});
+  return m.Add({Impl::FactorKind::kGnss, t, t, [&m, fix, p_imu_antenna, time_offset](Impl::Node& a) {
+                  m.AttachGnss(a, fix, p_imu_antenna, time_offset);
+                }});
 }
 
 AddResult SlidingWindowSmoother::AddDualAntenna(const DualAntennaHeading& heading,
@@ -186,17 +191,23 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   std::optional<Mat15> newest_information;
   if (m.options.solver == WindowSolver::kCeres) {
     SolveWindowWithCeres(m.problem, m.options, &out);
+    if (!m.globals.empty() && out.usable) newest_information = m.UpdateGlobals(nullptr);
   } else {
+    const std::vector<double*> globals = m.GlobalBlocks();
     const ChainSolveSummary chain = SolveChainLevenbergMarquardt(
         m.Chain(), m.manifold,
-        ChainSolveOptions{m.options.max_iterations, m.options.initial_trust_region_radius});
+        ChainSolveOptions{m.options.max_iterations, m.options.initial_trust_region_radius},
+        globals);
     out.usable = chain.usable;
     out.iterations = chain.iterations;
     out.initial_cost = chain.initial_cost;
     out.final_cost = chain.final_cost;
     // Marginalising below keeps the newest state's marginal (the prior is the Schur complement
     // of the same linearisation), so the solve's elimination serves NewestCovariance.
-    if (chain.has_system) newest_information = NewestMarginalInformation(chain.system);
+    if (chain.has_system) {
+      newest_information = m.globals.empty() ? NewestMarginalInformation(chain.system)
+                                             : m.UpdateGlobals(&chain.system);
+    }
   }
   for (const auto& n : m.states) {
     for (const Impl::Factor& f : n->factors) {

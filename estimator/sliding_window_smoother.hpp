@@ -19,6 +19,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -114,8 +115,26 @@ class SlidingWindowSmoother {
   bool initialized() const;
 
   // GNSS antenna fix (ENU) with the antenna's position in the IMU frame. InputError if the
-  // covariance is not positive definite or before Initialize.
-  AddResult AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
+  // covariance is not positive definite or before Initialize. With time_offset (an index
+  // AddTimeOffset gave) the fix stamped t is the antenna at t - offset
+  // (gnss_time_offset_factor.hpp); InputError on an index it did not give.
+  AddResult AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
+                    std::optional<int> time_offset = std::nullopt);
+
+  // A time offset (s) as a global parameter of the window: a scalar every state's factors may
+  // touch, solved with the states (bordered_chain.hpp) and kept through marginalisation in the
+  // joint prior of the oldest state and the globals (bordered_marginalization_prior.hpp). It
+  // starts at 0 with the prior N(0, prior_sigma_s^2) and is held within +-max_abs_s after each
+  // solve. Returns its index. InputError before Initialize, on a sigma or bound that is not
+  // positive, or with the Ceres solver and keep_all_states (not supported there).
+  int AddTimeOffset(const std::string& name, double prior_sigma_s, double max_abs_s);
+  struct TimeOffsetEstimate {
+    std::string name;
+    double offset_s = 0.0;
+    double sigma_s = 0.0;  // marginal, from the last solve's linearisation (0 before a solve)
+    int num_clamped = 0;   // solves after which it was held at its bound
+  };
+  std::vector<TimeOffsetEstimate> TimeOffsets() const;
   // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
   // measurement DualAntennaFactor refuses.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,

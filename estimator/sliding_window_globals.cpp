@@ -1,0 +1,78 @@
+// SlidingWindowSmoother's global parameters (GNSS time offsets): creation with their prior,
+// their marginals after a solve, their bound (sliding_window_smoother.hpp).
+#include <ceres/sized_cost_function.h>
+
+#include "core/error.hpp"
+#include "estimator/sliding_window_impl.hpp"
+
+namespace statebench::est {
+namespace {
+
+// r = (x - 0) / sigma on a scalar block.
+class GlobalZeroPrior final : public ceres::SizedCostFunction<1, 1> {
+ public:
+  explicit GlobalZeroPrior(double sigma) : inv_sigma_(1.0 / sigma) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    residuals[0] = inv_sigma_ * parameters[0][0];
+    if (jacobians != nullptr && jacobians[0] != nullptr) jacobians[0][0] = inv_sigma_;
+    return true;
+  }
+
+ private:
+  const double inv_sigma_;
+};
+
+}  // namespace
+
+int SlidingWindowSmoother::AddTimeOffset(const std::string& name, double prior_sigma_s,
+                                         double max_abs_s) {
+  Impl& m = *impl_;
+  if (!initialized()) throw InputError("sliding window smoother: time offset before initialization");
+  if (!(prior_sigma_s > 0.0) || !std::isfinite(prior_sigma_s) || !(max_abs_s > 0.0)) {
+    throw InputError("time offset '" + name + "': prior sigma and bound must be positive");
+  }
+  if (m.options.solver == WindowSolver::kCeres && m.options.keep_all_states) {
+    throw InputError("time offset '" + name + "': not with the Ceres solver and the batch store");
+  }
+  Impl::Global g{name, max_abs_s, std::make_unique<double>(0.0), prior_sigma_s, 0};
+  m.problem.AddParameterBlock(g.value.get(), 1);
+  // Anchored at the oldest state: the prior enters the marginalisation prior when it leaves.
+  Impl::Node& anchor = *m.states.front();
+  double* block = g.value.get();
+  m.globals.push_back(std::move(g));
+  m.AddFactor(anchor, Impl::FactorKind::kGlobalPrior, new GlobalZeroPrior(prior_sigma_s), nullptr,
+              {block});
+  return static_cast<int>(m.globals.size()) - 1;
+}
+
+std::vector<SlidingWindowSmoother::TimeOffsetEstimate> SlidingWindowSmoother::TimeOffsets()
+    const {
+  std::vector<TimeOffsetEstimate> out;
+  for (const Impl::Global& g : impl_->globals) {
+    out.push_back({g.name, *g.value, g.sigma, g.num_clamped});
+  }
+  return out;
+}
+
+Mat15 SlidingWindowSmoother::Impl::UpdateGlobals(const ChainSystem* system) {
+  ChainSystem linearized;
+  if (system == nullptr) {
+    const std::vector<double*> blocks = GlobalBlocks();
+    LinearizeChain(Chain(), manifold, &linearized, blocks);
+    system = &linearized;
+  }
+  const BorderedChainMarginals marginals = MarginalsOfBorderedChain(*system);
+  for (std::size_t i = 0; i < globals.size(); ++i) {
+    Global& g = globals[i];
+    const auto at = static_cast<Eigen::Index>(i);
+    g.sigma = std::sqrt(std::max(marginals.global_covariance(at, at), 0.0));
+    if (std::abs(*g.value) > g.max_abs) {
+      *g.value = std::clamp(*g.value, -g.max_abs, g.max_abs);
+      ++g.num_clamped;
+    }
+  }
+  return marginals.newest_information;
+}
+
+}  // namespace statebench::est

@@ -1,0 +1,113 @@
+// The factor graph estimating a GNSS receiver's time offset (gnss.estimate_time_offset) on the
+// figure eight with a noisy IMU and noisy fixes (sigma 1.7 m per horizontal axis, setup 2's
+// CEP 2 m), seed 11 (not the tuning seed): stamps 80 ms late are found within 5 ms by 60 s; with
+// synchronised stamps the estimate stays near 0 and the position error does not grow.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <variant>
+
+#include "estimator/factor_graph_estimator.hpp"
+#include "estimator_scenario.hpp"
+
+namespace statebench::est {
+namespace {
+
+struct TimeOffsetRun {
+  std::optional<TimeOffsetDiagnostics> offset;
+  double rms_position_error_m = 0.0;
+};
+
+TimeOffsetRun RunWithLateStamps(double late_s, bool estimate, std::uint64_t seed = 11) {
+  testing::ScenarioOptions so;
+  so.duration_s = 70.0;
+  so.imu_noisy = true;
+  so.gnss_sigma_h = so.reported_sigma_h = 1.7;
+  so.gnss_sigma_v = so.reported_sigma_v = 3.0;
+  so.seed = seed;
+  const testing::Scenario sc = testing::MakeScenario(so);
+  FactorGraphOptions options;
+  options.origin = testing::kTestOrigin;
+  options.gnss.estimate_time_offset = estimate;
+  FactorGraphEstimator estimator(testing::MakeSetup(so), options);
+  double sum_sq = 0.0;
+  int n = 0;
+  for (Measurement m : sc.stream) {
+    if (auto* fix = std::get_if<GnssFix>(&m)) fix->header.stamp_ns += FromSeconds(late_s);
+    estimator.Add(m);
+    if (!std::holds_alternative<ImuSample>(m)) continue;
+    const TimeNs t = HeaderOf(m).stamp_ns;
+    if (ToSeconds(t) < 20.0) continue;
+    if (const auto e = estimator.StateAt(t)) {
+      sum_sq += (e->state.p_world - sc.Truth(t).p_world).head<2>().squaredNorm();
+      ++n;
+    }
+  }
+  TimeOffsetRun r;
+  const auto& sensors = estimator.diagnostics().sensors;
+  if (sensors.count("gnss_front") > 0) r.offset = sensors.at("gnss_front").time_offset;
+  r.rms_position_error_m = n > 0 ? std::sqrt(sum_sq / n) : INFINITY;
+  return r;
+}
+
+// The estimate's history value at the last solve at or before t_s.
+double OffsetAt(const TimeOffsetDiagnostics& o, double t_s, double* sigma) {
+  double at = NAN;
+  for (const auto& h : o.history) {
+    if (ToSeconds(h.t_ns) <= t_s) at = h.offset_s, *sigma = h.sigma_s;
+  }
+  return at;
+}
+
+TEST(FactorGraphTimeOffset, FindsStampsLateBy80MsWithin60Seconds) {
+  const TimeOffsetRun estimated = RunWithLateStamps(0.08, true);
+  const TimeOffsetRun ignored = RunWithLateStamps(0.08, false);
+  ASSERT_TRUE(estimated.offset.has_value());
+  EXPECT_FALSE(ignored.offset.has_value());
+  double sigma_60s = NAN;
+  const double at_60s = OffsetAt(*estimated.offset, 60.0, &sigma_60s);
+  std::printf("stamps 80 ms late: offset at 60 s %.4f s (sigma %.4f s), final %.4f s; horizontal "
+              "RMS from 20 s %.3f m estimated, %.3f m ignored\n",
+              at_60s, sigma_60s, estimated.offset->offset_s, estimated.rms_position_error_m,
+              ignored.rms_position_error_m);
+  EXPECT_LT(std::abs(at_60s - 0.08), 0.005);
+  EXPECT_LT(std::abs(estimated.offset->offset_s - 0.08), 0.005);
+  EXPECT_EQ(estimated.offset->clamped, 0);
+  // Its sigma covers its error (3 sigma).
+  EXPECT_LT(std::abs(at_60s - 0.08), 3.0 * sigma_60s);
+}
+
+// Seeds 12-15: the estimate's sigma at 60 s is about 10 ms on this drive, so 5 ms at 60 s is
+// not a per-seed guarantee (measured errors at 60 s: 8.5, 1.0, 5.0, 2.8 ms); each seed's error is
+// within 3 of its sigmas at 60 s and at the end (70 s).
+TEST(FactorGraphTimeOffset, OtherSeedsAreWithinTheirSigma) {
+  for (std::uint64_t seed = 12; seed <= 15; ++seed) {
+    const TimeOffsetRun run = RunWithLateStamps(0.08, true, seed);
+    ASSERT_TRUE(run.offset.has_value());
+    double sigma_60s = NAN;
+    const double at_60s = OffsetAt(*run.offset, 60.0, &sigma_60s);
+    std::printf("seed %llu: offset at 60 s %.4f s (sigma %.4f s), at 70 s %.4f s (sigma %.4f s)\n",
+                static_cast<unsigned long long>(seed), at_60s, sigma_60s, run.offset->offset_s,
+                run.offset->sigma_s);
+    EXPECT_LT(std::abs(at_60s - 0.08), 3.0 * sigma_60s) << "seed " << seed;
+    EXPECT_LT(std::abs(run.offset->offset_s - 0.08), 3.0 * run.offset->sigma_s) << "seed " << seed;
+  }
+}
+
+// Stated bound: with synchronised stamps, estimating the offset costs at most 10 % + 2 cm of
+// horizontal RMS, and the estimate stays within 10 ms of 0.
+TEST(FactorGraphTimeOffset, SynchronisedStampsStayNearZeroAndCostLittle) {
+  const TimeOffsetRun on = RunWithLateStamps(0.0, true);
+  const TimeOffsetRun off = RunWithLateStamps(0.0, false);
+  ASSERT_TRUE(on.offset.has_value());
+  std::printf("synchronised: offset %.4f s (sigma %.4f s); horizontal RMS from 20 s %.3f m on, "
+              "%.3f m off\n",
+              on.offset->offset_s, on.offset->sigma_s, on.rms_position_error_m,
+              off.rms_position_error_m);
+  EXPECT_LT(std::abs(on.offset->offset_s), 0.01);
+  EXPECT_LT(on.rms_position_error_m, 1.1 * off.rms_position_error_m + 0.02);
+}
+
+}  // namespace
+}  // namespace statebench::est
