@@ -38,7 +38,8 @@ std::vector<reports::RunRecord> LoadRuns(const fs::path& where) {
   std::error_code ec;
   if (fs::is_directory(where, ec)) {
     if (fs::is_regular_file(where / "results.db", ec)) {
-      return reports::ResultsStore(where / "results.db").Runs();
+      return reports::ResultsStore(where / "results.db", reports::ResultsStore::Access::kRead)
+          .Runs();
     }
     const fs::path summary_file = where / "run.json";
     std::ifstream in(summary_file);
@@ -66,7 +67,7 @@ std::vector<reports::RunRecord> LoadRuns(const fs::path& where) {
     return {run};
   }
   if (!fs::is_regular_file(where, ec)) throw InputError(where.string() + ": no such store or run folder");
-  return reports::ResultsStore(where).Runs();
+  return reports::ResultsStore(where, reports::ResultsStore::Access::kRead).Runs();
 }
 
 fs::path DefaultThresholds() {

@@ -109,7 +109,7 @@ void SweepReport(const fs::path& store_file, const CliArgs& args, const fs::path
   if (const auto by = args.Option("by")) options.by = *by;
   if (const auto metrics = args.Option("metrics")) options.metrics = SplitList(*metrics);
   const std::uint64_t worst = args.Unsigned("worst").value_or(3);
-  const reports::ResultsStore store(store_file);
+  const reports::ResultsStore store(store_file, reports::ResultsStore::Access::kRead);
   nlohmann::json job = {{"data", reports::SweepReportData(store, options)},
                         {"nees_bounds", EpochNeesBounds()},
                         {"worst", worst}};

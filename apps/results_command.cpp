@@ -243,7 +243,7 @@ int Summary(const std::vector<std::string>& argv) {
   }
   const std::vector<std::string> metrics =
       args.Option("metrics") ? SplitList(*args.Option("metrics")) : kDefaultMetrics;
-  const reports::ResultsStore store(file);
+  const reports::ResultsStore store(file, reports::ResultsStore::Access::kRead);
   return PrintSummary(store.Runs(), SplitList(args.Option("by").value_or("")), metrics, format);
 }
 

@@ -141,10 +141,20 @@ void CollectLeaves(const nlohmann::json& j, const std::string& prefix,
 
 }  // namespace
 
-ResultsStore::ResultsStore(const std::filesystem::path& file)
+ResultsStore::ResultsStore(const std::filesystem::path& file, Access access)
     : file_(file), db_(std::make_unique<Db>()) {
   db_->file = file.string();
-  if (sqlite3_open(file.c_str(), &db_->handle) != SQLITE_OK) db_->Fail("cannot open");
+  if (access == Access::kRead) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) {
+      throw InputError(db_->file + ": no results store here");
+    }
+  }
+  const int flags = access == Access::kRead ? SQLITE_OPEN_READONLY
+                                            : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  if (sqlite3_open_v2(file.c_str(), &db_->handle, flags, nullptr) != SQLITE_OK) {
+    db_->Fail("cannot open");
+  }
   sqlite3_busy_timeout(db_->handle, 60000);
   // The schema version (SQLite's user_version) is checked before anything is written: a store of
   // a newer statebench, or another SQLite file, is refused as it is.
@@ -159,6 +169,10 @@ ResultsStore::ResultsStore(const std::filesystem::path& file)
   }
   if (has_tables && !has_runs) {
     throw InputError(db_->file + ": an SQLite file but not a results store (no table 'runs')");
+  }
+  if (access == Access::kRead) {
+    if (!has_runs) throw InputError(db_->file + ": not a results store (no table 'runs')");
+    return;
   }
   // Version 0 with the tables: written before the version was recorded, the same schema as 1.
   db_->Exec("PRAGMA journal_mode=WAL; PRAGMA foreign_keys=ON; PRAGMA synchronous=NORMAL;");

@@ -70,9 +70,12 @@ class ResultsStore {
   // version was recorded, which have this same layout).
   static constexpr int kSchemaVersion = 1;
 
-  // Opens or creates the store (schema, WAL mode). Throws InputError for a store of a newer
-  // schema version or an SQLite file that is not a results store, naming the file.
-  explicit ResultsStore(const std::filesystem::path& file);
+  // kWrite opens or creates the store (schema, WAL mode); kRead opens an existing store without
+  // writing to it (no schema, no journal-mode switch: a reader never takes the write lock a
+  // sweep writing the same store needs). Throws InputError for a missing store (kRead), a store
+  // of a newer schema version or an SQLite file that is not a results store, naming the file.
+  enum class Access { kWrite, kRead };
+  explicit ResultsStore(const std::filesystem::path& file, Access access = Access::kWrite);
   ~ResultsStore();
   ResultsStore(const ResultsStore&) = delete;
   ResultsStore& operator=(const ResultsStore&) = delete;

@@ -161,6 +161,25 @@ TEST_F(ResultsStoreTest, SchemaVersionIsRecordedAndANewerOrForeignFileRefused) {
   EXPECT_THROW(ResultsStore(dir_ / "text.db"), InputError);
 }
 
+// A reader (summary, compare, report) opens the store read-only: it never creates a file, never
+// writes, and reads a store a writer still holds open.
+TEST_F(ResultsStoreTest, ReadAccessNeitherCreatesNorWrites) {
+  using Access = ResultsStore::Access;
+  EXPECT_THROW(ResultsStore(dir_ / "missing.db", Access::kRead), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "missing.db"));
+  ResultsStore writer(dir_ / "a.db");
+  writer.WriteRun(MakeRun("r1", 0.5));
+  {
+    const ResultsStore reader(dir_ / "a.db", Access::kRead);
+    ASSERT_EQ(reader.Runs().size(), 1u);
+    EXPECT_EQ(reader.Runs()[0].id, "r1");
+  }
+  writer.WriteRun(MakeRun("r2", 0.7));
+  EXPECT_EQ(ResultsStore(dir_ / "a.db", Access::kRead).Runs().size(), 2u);
+  ExecSql(dir_ / "other.db", "CREATE TABLE t (x INTEGER)");
+  EXPECT_THROW(ResultsStore(dir_ / "other.db", Access::kRead), InputError);
+}
+
 TEST(FlattenMetrics, NestedKeysListsAndNoIdentifiers) {
   const nlohmann::json j = {{"seed", 3},
                             {"estimator", "ekf"},
