@@ -235,8 +235,6 @@ int Summary(const std::vector<std::string>& argv) {
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs& args = std::get<CliArgs>(parsed);
   const fs::path file = args.positional().at(0);
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw InputError(file.string() + ": no such results store");
   const std::string format = args.Option("format").value_or("text");
   if (format != "text" && format != "md" && format != "csv" && format != "json") {
     throw std::invalid_argument("--format: expected text, md, csv or json, got '" + format + "'");

@@ -147,7 +147,7 @@ ResultsStore::ResultsStore(const std::filesystem::path& file, Access access)
   if (access == Access::kRead) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) {
-      throw InputError(db_->file + ": no results store here");
+      throw InputError(db_->file + ": no such results store");
     }
   }
   const int flags = access == Access::kRead ? SQLITE_OPEN_READONLY
@@ -353,11 +353,7 @@ std::size_t MergeStores(const std::vector<std::filesystem::path>& inputs,
   for (const RunRecord& r : out.Runs()) merged[r.id] = {r, output.string()};
   std::size_t written = 0;
   for (const std::filesystem::path& input : inputs) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(input, ec)) {
-      throw InputError(input.string() + ": no such results store");
-    }
-    const ResultsStore in(input);
+    const ResultsStore in(input, ResultsStore::Access::kRead);
     for (const SweepRecord& s : in.Sweeps()) out.AddSweep(s);
     for (const RunRecord& r : in.Runs()) {
       const auto it = merged.find(r.id);
