@@ -47,7 +47,7 @@ std::optional<EkfCourseStart::Course> EkfCourseStart::AddFix(TimeNs t_ns, const 
     const double pair_var_h = std::max(var_h, it->var_h);
     const double needed =
         std::max(min_distance_m, std::sqrt(2.0 * pair_var_h) / max_yaw_sigma_rad);
-    if (!course && length >= longest_chord_m_) {
+    if (length >= longest_chord_m_) {
       longest_chord_m_ = length;
       needed_m_ = needed;
     }
@@ -68,8 +68,6 @@ std::optional<EkfCourseStart::Course> EkfCourseStart::AddFix(TimeNs t_ns, const 
     c.speed_mps = std::max(0.0, length / dt + gained);
     c.speed_variance = speed_variance;
     course = c;
-    longest_chord_m_ = length;
-    needed_m_ = needed;
   }
   fixes_.push_back({t_ns, p_enu, var_h});
   return course;
