@@ -206,7 +206,13 @@ OptionTable<NonHolonomicOptions> NonHolonomicTable() {
       .Number("slip_per_lateral_accel", &N::slip_per_lateral_accel, Range::NonNegative(),
               "lateral sigma grows by |v| x this x |v omega_z|")
       .Number("lateral_sigma_mps", &N::lateral_sigma_mps, Range::Positive(), "lateral sigma")
-      .Number("vertical_sigma_mps", &N::vertical_sigma_mps, Range::Positive(), "vertical sigma");
+      .Number("vertical_sigma_mps", &N::vertical_sigma_mps, Range::Positive(), "vertical sigma")
+      .Flag("estimate_mount", &N::estimate_mount,
+            "estimate the IMU mount's pitch and yaw against the vehicle (two window globals)")
+      .Number("mount_prior_sigma_deg", &N::mount_prior_sigma_deg, Range::Positive(),
+              "prior sigma of each mount angle")
+      .Number("mount_max_deg", &N::mount_max_deg, Range::Positive(),
+              "each mount angle held within +-this");
   return t;
 }
 

@@ -288,7 +288,7 @@ std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
   if (!options_.gnss.estimate_time_offset) return std::nullopt;
   auto it = time_offsets_.find(antenna_id);
   if (it == time_offsets_.end()) {
-    const int index = ctx_.smoother.AddTimeOffset(
+    const int index = ctx_.smoother.AddGlobal(
         antenna_id, options_.gnss.time_offset_prior_sigma_s, options_.gnss.time_offset_max_s);
     it = time_offsets_.emplace(antenna_id, index).first;
   }
@@ -298,23 +298,23 @@ std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
 double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
   const auto it = time_offsets_.find(antenna_id);
   if (it == time_offsets_.end()) return 0.0;
-  return ctx_.smoother.TimeOffsets()[it->second].offset_s;
+  return ctx_.smoother.Globals()[it->second].value;
 }
 
 void GnssFrontEnd::RecordTimeOffsets() {
   if (time_offsets_.empty()) return;
   const TimeNs t = ctx_.smoother.NewestState().t_ns;
-  const auto estimates = ctx_.smoother.TimeOffsets();
+  const auto estimates = ctx_.smoother.Globals();
   for (const auto& [id, index] : time_offsets_) {
-    const SlidingWindowSmoother::TimeOffsetEstimate& e = estimates[index];
+    const SlidingWindowSmoother::GlobalEstimate& e = estimates[index];
     std::optional<TimeOffsetDiagnostics>& d = ctx_.Counters(id).time_offset;
     if (!d) d.emplace();
-    d->offset_s = e.offset_s;
-    d->sigma_s = e.sigma_s;
+    d->offset_s = e.value;
+    d->sigma_s = e.sigma;
     d->clamped = e.num_clamped;
     if (d->history.empty() ||
         t - d->history.back().t_ns >= FromSeconds(kTimeOffsetHistoryPeriodS)) {
-      d->history.push_back({t, e.offset_s, e.sigma_s});
+      d->history.push_back({t, e.value, e.sigma});
     }
   }
 }

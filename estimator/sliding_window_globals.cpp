@@ -1,4 +1,4 @@
-// SlidingWindowSmoother's global parameters (GNSS time offsets): creation with their prior,
+// SlidingWindowSmoother's global parameters (GNSS time offsets, mount rotation corrections): creation with their prior,
 // their marginals after a solve, their bound (sliding_window_smoother.hpp).
 #include <ceres/sized_cost_function.h>
 
@@ -25,30 +25,29 @@ class GlobalZeroPrior final : public ceres::SizedCostFunction<1, 1> {
 
 }  // namespace
 
-int SlidingWindowSmoother::AddTimeOffset(const std::string& name, double prior_sigma_s,
-                                         double max_abs_s) {
+int SlidingWindowSmoother::AddGlobal(const std::string& name, double prior_sigma,
+                                     double max_abs) {
   Impl& m = *impl_;
-  if (!initialized()) throw InputError("sliding window smoother: time offset before initialization");
-  if (!(prior_sigma_s > 0.0) || !std::isfinite(prior_sigma_s) || !(max_abs_s > 0.0)) {
-    throw InputError("time offset '" + name + "': prior sigma and bound must be positive");
+  if (!initialized()) throw InputError("sliding window smoother: global '" + name + "' before initialization");
+  if (!(prior_sigma > 0.0) || !std::isfinite(prior_sigma) || !(max_abs > 0.0)) {
+    throw InputError("global '" + name + "': prior sigma and bound must be positive");
   }
   if (m.options.solver == WindowSolver::kCeres && m.options.keep_all_states) {
-    throw InputError("time offset '" + name + "': not with the Ceres solver and the batch store");
+    throw InputError("global '" + name + "': not with the Ceres solver and the batch store");
   }
-  Impl::Global g{name, max_abs_s, std::make_unique<double>(0.0), prior_sigma_s, 0};
+  Impl::Global g{name, max_abs, std::make_unique<double>(0.0), prior_sigma, 0};
   m.problem.AddParameterBlock(g.value.get(), 1);
   // Anchored at the oldest state: the prior enters the marginalisation prior when it leaves.
   Impl::Node& anchor = *m.states.front();
   double* block = g.value.get();
   m.globals.push_back(std::move(g));
-  m.AddFactor(anchor, Impl::FactorKind::kGlobalPrior, new GlobalZeroPrior(prior_sigma_s), nullptr,
+  m.AddFactor(anchor, Impl::FactorKind::kGlobalPrior, new GlobalZeroPrior(prior_sigma), nullptr,
               {block});
   return static_cast<int>(m.globals.size()) - 1;
 }
 
-std::vector<SlidingWindowSmoother::TimeOffsetEstimate> SlidingWindowSmoother::TimeOffsets()
-    const {
-  std::vector<TimeOffsetEstimate> out;
+std::vector<SlidingWindowSmoother::GlobalEstimate> SlidingWindowSmoother::Globals() const {
+  std::vector<GlobalEstimate> out;
   for (const Impl::Global& g : impl_->globals) {
     out.push_back({g.name, *g.value, g.sigma, g.num_clamped});
   }

@@ -116,7 +116,7 @@ struct SlidingWindowSmoother::Impl {
   // The newest state's information from the last chain solve's final linearisation; cleared by
   // any change of the window's factors.
   std::optional<Mat15> newest_information;
-  // Global scalars (GNSS time offsets): values at stable addresses, in the border's order.
+  // Global scalars (GNSS time offsets, mount rotation corrections): values at stable addresses, in the border's order.
   struct Global {
     std::string name;
     double max_abs = 0.0;
@@ -250,11 +250,20 @@ struct SlidingWindowSmoother::Impl {
     return InterpolateImuSample(*std::prev(it), *it, t_ns).gyro;
   }
 
-  void AttachVelocity(Node& a, TimeNs t_ns, BodyVelocityMeasurement m, const RobustKernel& kernel) {
+  void AttachVelocity(Node& a, TimeNs t_ns, BodyVelocityMeasurement m, const RobustKernel& kernel,
+                      std::optional<SlidingWindowSmoother::MountCorrection> mount) {
     m.gyro_raw = GyroAt(t_ns);
-    AddFactor(a, FactorKind::kVelocity, CreateBodyVelocityFactor(m, Preintegrate(a, t_ns)),
-              kernel.MakeLossFunction().release(),
-              {a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()});
+    std::vector<double*> blocks{a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()};
+    ceres::CostFunction* cost = nullptr;
+    if (mount) {
+      blocks.push_back(globals[mount->pitch].value.get());
+      blocks.push_back(globals[mount->yaw].value.get());
+      cost = CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns));
+    } else {
+      cost = CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
+    }
+    AddFactor(a, FactorKind::kVelocity, cost, kernel.MakeLossFunction().release(),
+              std::move(blocks));
   }
 
   // A factor at its anchor now, or pending until the IMU reaches ready_ns; kTooOld (and

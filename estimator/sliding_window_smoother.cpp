@@ -133,14 +133,25 @@ AddResult SlidingWindowSmoother::AddRelativePose(TimeNs t1_ns, TimeNs t2_ns,
 }
 
 AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
-                                                 const RobustKernel& kernel) {
+                                                 const RobustKernel& kernel,
+                                                 std::optional<MountCorrection> mount) {
   Impl& s = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: velocity before initialization");
   if (!m.sqrt_information.allFinite() || !m.v_frame.allFinite() || !m.p_imu_point.allFinite()) {
     throw InputError("body velocity: non-finite value");
   }
-  return s.Add({Impl::FactorKind::kVelocity, t_ns, t_ns,
-                [&s, t_ns, m, kernel](Impl::Node& a) { s.AttachVelocity(a, t_ns, m, kernel); }});
+  if (mount) {
+    const auto known = [&s](int i) { return i >= 0 && i < static_cast<int>(s.globals.size()); };
+    if (!known(mount->pitch) || !known(mount->yaw)) {
+      throw InputError("body velocity: unknown mount correction index");
+    }
+    if (m.frame != BodyVelocityMeasurement::Frame::kVehicle) {
+      throw InputError("body velocity: a mount correction needs a vehicle-frame measurement");
+    }
+  }
+  return s.Add({Impl::FactorKind::kVelocity, t_ns, t_ns, [&s, t_ns, m, kernel, mount](Impl::Node& a) {
+                  s.AttachVelocity(a, t_ns, m, kernel, mount);
+                }});
 }
 
 AddResult SlidingWindowSmoother::AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps,
