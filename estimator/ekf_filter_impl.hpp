@@ -19,6 +19,7 @@
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/ekf_single_track_model.hpp"
 #include "estimator/gnss_enu.hpp"
+#include "estimator/imu_still_window.hpp"
 #include "estimator/refused_fix_track.hpp"
 #include "estimator/state_initializer.hpp"
 
@@ -171,13 +172,16 @@ struct EkfSingleTrackEstimator::Impl {
   // Standstill from the odometry, as the factor graph's zero-rate factor
   // (body_velocity_front_end.hpp): two consecutive samples of a body_velocity sensor reading
   // zero (BodyVelocityReadsZero, ZeroVelocityOptions' max_encoder_speed_mps), the IMU quiet
-  // between them (ZeroVelocityOptions' gyro and accel thresholds) and its mean body-z rate within
+  // (the factor graph's default still test, low band included, over the rolling window ending
+  // with the newer sample or over the span when longer: imu_still_window.hpp) and its mean
+  // body-z rate over the span within
   // BodyVelocityFrontEnd::kMaxStillRateRadps of b_g: that mean measures b_g with the sigma
   // gyro_sigma_radps / sqrt(samples). Counted as the sensor's `zero_rate_updates` event.
   // Without an absolute heading it is what keeps b_g, hence the yaw, from drifting.
   void UpdateStandstill(const std::string& id, const BodyVelocity& m);
   std::optional<TimeNs> odometry_zero_since_ns;  // the previous sample read zero, at this stamp
   std::vector<ImuSample> standstill_imu;         // IMU samples after odometry_zero_since_ns
+  ImuStillWindow still_imu{ZeroVelocityOptions{}.window_s};  // the newest, for the still test
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
   // vehicle is planar, the baseline's pitch is not used).

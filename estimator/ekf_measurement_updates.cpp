@@ -226,6 +226,7 @@ void EkfSingleTrackEstimator::Impl::StartOver(const std::string& id, TimeNs stam
   last_accepted_heading_ns.clear();
   odometry_zero_since_ns.reset();
   standstill_imu.clear();
+  still_imu.Clear();
   if (local_start) ResetLocalStart();  // a new local frame from the next start
 }
 

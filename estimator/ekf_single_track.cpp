@@ -172,6 +172,7 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   last_imu_ns = sample.header.stamp_ns;
   if (!initialized && local_start) TryStartLocal(sample, gyro_body.z());
   if (!initialized) return;
+  still_imu.Push(sample);
   if (odometry_zero_since_ns && sample.header.stamp_ns > *odometry_zero_since_ns) {
     standstill_imu.push_back(sample);
     if (standstill_imu.size() > kMaxStandstillSamples) {  // the odometry stopped reading
