@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/so3.hpp"
+#include "estimator/doppler_window.hpp"
 #include "estimator/ekf_course_start.hpp"
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/ekf_single_track_model.hpp"
@@ -71,6 +72,7 @@ struct EkfSingleTrackEstimator::Impl {
   std::map<std::string, SensorInfo> sensors;
   std::string course_antenna;
   bool has_steering = false;  // without a steering encoder r is a random walk, vy relaxes to 0
+  bool has_speed_input = false;  // a speed encoder or a body_velocity sensor
   std::optional<ekf::SingleTrackModel> model;  // once the setup is read
   // Without a GNSS antenna the filter starts in a local frame (ekf_local_start.cpp) from this
   // initialiser (the factor graph's, state_initializer.hpp); its WGS84 output is local_frame,
@@ -182,6 +184,17 @@ struct EkfSingleTrackEstimator::Impl {
   std::optional<TimeNs> odometry_zero_since_ns;  // the previous sample read zero, at this stamp
   std::vector<ImuSample> standstill_imu;         // IMU samples after odometry_zero_since_ns
   ImuStillWindow still_imu{ZeroVelocityOptions{}.window_s};  // the newest, for the still test
+
+  // Standstill without a speed input (no encoder, no odometry), as the factor graph's
+  // zero-velocity factor with its default options (zero_velocity_evidence.hpp): the IMU quiet
+  // over still_imu (low band included), the receiver's Doppler mean near zero (or without it the
+  // estimated speed), and the longitudinal specific force less b_a below max_acceleration_mps2
+  // (the planar model's own: a grade's gravity is not separated from b_a, so a stop on a steep
+  // grade can fail it); then vx = vy = 0 with the sigma that evidence gives, at rate_hz.
+  // Counted as the IMU's `zero_velocity_updates` event.
+  void UpdateZeroVelocity(TimeNs t_ns);
+  DopplerWindow doppler;  // every Doppler velocity, gated or not
+  TimeNs next_zero_velocity_ns = INT64_MIN;
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
   // vehicle is planar, the baseline's pitch is not used).

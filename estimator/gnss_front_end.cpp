@@ -13,7 +13,6 @@ namespace statebench::est {
 namespace {
 
 constexpr TimeNs kRecentImuNs = 2 * kNsPerSecond;  // longer than any reorder latency
-constexpr double kDopplerKeepS = 5.0;  // Doppler velocities kept for the standstill test
 
 }  // namespace
 
@@ -197,23 +196,6 @@ void GnssFrontEnd::AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu
   gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{t, false};
 }
 
-std::optional<GnssFrontEnd::DopplerMean> GnssFrontEnd::MeanDopplerVelocity(TimeNs from_ns,
-                                                                        TimeNs to_ns) const {
-  DopplerMean mean;
-  Vec2 variance_sum = Vec2::Zero();
-  int n = 0;
-  for (const DopplerReading& r : doppler_) {
-    if (r.t_ns < from_ns || r.t_ns > to_ns) continue;
-    mean.v_enu += r.v_enu;
-    variance_sum += r.sigma_enu.cwiseAbs2();
-    ++n;
-  }
-  if (n == 0) return std::nullopt;
-  mean.v_enu /= n;
-  mean.sigma_enu = variance_sum.cwiseSqrt() / n;
-  return mean;
-}
-
 void GnssFrontEnd::AddVelocity(const PositionInput& in) {
   const GnssPositionEnu& fix = in.fix;
   const GnssVelocity& velocity = *fix.velocity;
@@ -222,8 +204,7 @@ void GnssFrontEnd::AddVelocity(const PositionInput& in) {
   if (velocity.sigma_enu.maxCoeff() > options_.gnss_velocity.max_sigma) {
     return ctx_.Count(id, "velocity_too_noisy");
   }
-  doppler_.push_back({t, velocity.v_enu.head<2>(), velocity.sigma_enu.head<2>()});
-  while (doppler_.front().t_ns < t - FromSeconds(kDopplerKeepS)) doppler_.pop_front();
+  doppler_.Add(t, velocity.v_enu.head<2>(), velocity.sigma_enu.head<2>());
   if (const auto predicted = ctx_.PredictAt(t)) {
     const double d2 =
         GnssVelocityMahalanobisSquared(*predicted, in.p_imu_antenna, RecentGyro(t), velocity);

@@ -1,9 +1,9 @@
 #include "estimator/motion_constraint_front_end.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "estimator/imu_window_statistics.hpp"
+#include "estimator/zero_velocity_evidence.hpp"
 
 namespace statebench::est {
 
@@ -58,26 +58,6 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   }
 }
 
-namespace {
-
-// The estimated horizontal speed is within max_estimated_speed_mps + estimated_speed_sigmas x
-// its sigma (along the estimated velocity) of zero: in a GNSS outage the speed drifts away from
-// a stop the IMU shows (a tilt error of 0.01 rad leaks 0.1 m/s^2 of gravity).
-bool EstimatedSpeedNearZero(const PropagatedState& predicted, const ZeroVelocityOptions& z) {
-  const Vec3& v = predicted.state.v_world;
-  const Vec2 v_h = v.head<2>();
-  const double speed = v_h.norm();
-  double sigma = 0.0;
-  if (speed > 0.0) {
-    const Vec2 u = v_h / speed;
-    const Mat2 P = predicted.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex);
-    sigma = std::sqrt(std::max(0.0, u.dot(P * u)));
-  }
-  return std::hypot(speed, v.z()) < z.max_estimated_speed_mps + z.estimated_speed_sigmas * sigma;
-}
-
-}  // namespace
-
 // The IMU is quiet over the window and the speed encoder reads zero over it (without one, the
 // Doppler velocity's mean is near zero, or without that the estimated speed is low).
 std::optional<double> MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
@@ -96,24 +76,18 @@ std::optional<double> MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const
   }
   const std::optional<NavState> x = ctx_.PredictMeanAt(t_ns);
   if (!x) return std::nullopt;
-  const auto doppler = gnss_.MeanDopplerVelocity(t_ns - FromSeconds(z.doppler_window_s), t_ns);
   // The covariance only where the test reads it (no Doppler).
-  if (doppler ? !(doppler->v_enu.norm() < z.max_doppler_speed_mps)
-              : !EstimatedSpeedNearZero(*ctx_.PredictAt(t_ns), z)) {
-    return std::nullopt;
-  }
+  const std::optional<double> sigma = ZeroVelocitySigmaWithoutEncoder(
+      z, gnss_.doppler().Mean(t_ns - FromSeconds(z.doppler_window_s), t_ns), [&] {
+        const PropagatedState p = *ctx_.PredictAt(t_ns);
+        const Vec3& v = p.state.v_world;
+        return EstimatedSpeedNearZero(
+            v.head<2>(), v.z(), p.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex), z);
+      });
+  if (!sigma) return std::nullopt;
   const Vec3 acceleration = x->q_world_imu * (mean_a - x->accel_bias) + kGravityWorld;
   if (!(acceleration.norm() < z.max_acceleration_mps2)) return std::nullopt;
-  if (doppler) {
-    // The Doppler mean agrees with zero within doppler_agreement_sigmas of its own sigma: a
-    // creep it cannot rule out is of the order of that sigma, the factor's (ZeroVelocityOptions).
-    const double sigma = doppler->sigma_enu.maxCoeff();
-    if (sigma > 0.0 &&
-        doppler->v_enu.cwiseQuotient(doppler->sigma_enu).norm() < z.doppler_agreement_sigmas) {
-      return std::min(std::max(sigma, z.sigma_mps), z.sigma_without_encoder_mps);
-    }
-  }
-  return z.sigma_without_encoder_mps;
+  return sigma;
 }
 
 }  // namespace statebench::est
