@@ -54,4 +54,13 @@ Vec3 PointVelocity(const BodyVelocityMeasurement& m, const Quat& q_world_imu,
 ceres::CostFunction* CreateBodyVelocityFactor(const BodyVelocityMeasurement& m,
                                               const ImuPreintegration& propagation);
 
+// The same in a vehicle frame whose rotation the setup gives only approximately (an IMU mounted
+// by hand): the frame is turned by c = (0, c_pitch, c_yaw) (rad, about the frame's own y and z
+// axes: R_imu_frame Exp(c)), two more scalar blocks after the bias, estimated as globals of the
+// window. A rotation about the frame's forward axis does not change a forward velocity, so roll
+// is left out. r = S (Exp(c)^T v_c - v_measured); d/dc = S Exp(-c) [v_c]x Jr(-c) (y, z columns).
+// InputError for a world-frame measurement.
+ceres::CostFunction* CreateMountCorrectedBodyVelocityFactor(const BodyVelocityMeasurement& m,
+                                                            const ImuPreintegration& propagation);
+
 }  // namespace statebench::est

@@ -80,7 +80,7 @@ struct FactorGraphEstimator::Impl {
     }
     Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
                                             setup.antennas.front().p_imu_antenna, b, pitch);
-    if (options.non_holonomic.enabled) {
+    if (options.non_holonomic.enabled && !options.non_holonomic.estimate_mount) {
       C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
           options.gnss_calibration, setup.T_body_imu.rotation());
     }

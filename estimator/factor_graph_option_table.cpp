@@ -58,7 +58,16 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
         .Number("time_offset_prior_sigma_s", &MeasurementGateOptions::time_offset_prior_sigma_s,
                 Range::Positive(), "prior sigma of the time offset around 0 (s)")
         .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s,
-                Range::Positive(), "the time offset is held within +- this (s)");
+                Range::Positive(), "the time offset is held within +- this (s)")
+        .Flag("estimate_correlated_error", &MeasurementGateOptions::estimate_correlated_error,
+              "estimate each receiver's slowly varying error (Gauss-Markov, ENU) in the smoother")
+        .Number("correlated_error_sigma_m", &MeasurementGateOptions::correlated_error_sigma_m,
+                Range::Positive(), "its stationary sigma, east and north (m)")
+        .Number("correlated_error_vertical_sigma_m",
+                &MeasurementGateOptions::correlated_error_vertical_sigma_m, Range::Positive(),
+                "its stationary sigma, up (m)")
+        .Number("correlated_error_tau_s", &MeasurementGateOptions::correlated_error_tau_s,
+                Range::Positive(), "its correlation time (s)");
   }
   return t;
 }
@@ -206,7 +215,13 @@ OptionTable<NonHolonomicOptions> NonHolonomicTable() {
       .Number("slip_per_lateral_accel", &N::slip_per_lateral_accel, Range::NonNegative(),
               "lateral sigma grows by |v| x this x |v omega_z|")
       .Number("lateral_sigma_mps", &N::lateral_sigma_mps, Range::Positive(), "lateral sigma")
-      .Number("vertical_sigma_mps", &N::vertical_sigma_mps, Range::Positive(), "vertical sigma");
+      .Number("vertical_sigma_mps", &N::vertical_sigma_mps, Range::Positive(), "vertical sigma")
+      .Flag("estimate_mount", &N::estimate_mount,
+            "estimate the IMU mount's pitch and yaw against the vehicle (two window globals)")
+      .Number("mount_prior_sigma_deg", &N::mount_prior_sigma_deg, Range::Positive(),
+              "prior sigma of each mount angle")
+      .Number("mount_max_deg", &N::mount_max_deg, Range::Positive(),
+              "each mount angle held within +-this");
   return t;
 }
 

@@ -106,6 +106,7 @@ void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
 
 void GnssFrontEnd::OnRestart() {
   time_offsets_.clear();  // the new smoother has none
+  error_states_.clear();
   accepted_.clear();
   refused_.Clear();
   alignment_.Clear();
@@ -140,7 +141,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns - FromSeconds(offset_s))) {
     fix.covariance += PositionCalibrationCovariance(
         options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
-    const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
+    const GnssPositionEnu gated = LessErrorEstimate(fix);
+    const double d2 = GnssMahalanobisSquared(*predicted, lever, gated.p_enu, gated.covariance);
     if (scale != nullptr && scale->Add(d2)) {
       ctx_.Count(id, "covariance_scale_changed");
       ctx_.Counters(id).covariance_scale = scale->scale();
@@ -161,7 +163,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     }
   }
   refused_.Clear();
-  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id)) == AddResult::kTooOld) {
+  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id), ErrorStateOf(id)) ==
+      AddResult::kTooOld) {
     return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kTooOld);
   }
   gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
@@ -274,33 +277,63 @@ std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
   if (!options_.gnss.estimate_time_offset) return std::nullopt;
   auto it = time_offsets_.find(antenna_id);
   if (it == time_offsets_.end()) {
-    const int index = ctx_.smoother.AddTimeOffset(
+    const int index = ctx_.smoother.AddGlobal(
         antenna_id, options_.gnss.time_offset_prior_sigma_s, options_.gnss.time_offset_max_s);
     it = time_offsets_.emplace(antenna_id, index).first;
   }
   return it->second;
 }
 
+std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
+  const MeasurementGateOptions& g = options_.gnss;
+  if (!g.estimate_correlated_error) return std::nullopt;
+  auto it = error_states_.find(antenna_id);
+  if (it == error_states_.end()) {
+    std::array<int, 3> indices{};
+    const char* axes[] = {" error east", " error north", " error up"};
+    for (int k = 0; k < 3; ++k) {
+      const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
+      indices[k] = ctx_.smoother.AddGlobal(antenna_id + axes[k], sigma, 5.0 * sigma,
+                                           g.correlated_error_tau_s);
+    }
+    it = error_states_.emplace(antenna_id, indices).first;
+  }
+  return it->second;
+}
+
+GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) const {
+  const auto it = error_states_.find(fix.header.sensor_id);
+  if (it == error_states_.end()) return fix;
+  const auto globals = ctx_.smoother.Globals();
+  GnssPositionEnu out = fix;
+  for (int k = 0; k < 3; ++k) {
+    const SlidingWindowSmoother::GlobalEstimate& e = globals[it->second[k]];
+    out.p_enu(k) -= e.value;
+    out.covariance(k, k) += e.sigma * e.sigma;
+  }
+  return out;
+}
+
 double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
   const auto it = time_offsets_.find(antenna_id);
   if (it == time_offsets_.end()) return 0.0;
-  return ctx_.smoother.TimeOffsets()[it->second].offset_s;
+  return ctx_.smoother.Globals()[it->second].value;
 }
 
 void GnssFrontEnd::RecordTimeOffsets() {
   if (time_offsets_.empty()) return;
   const TimeNs t = ctx_.smoother.NewestState().t_ns;
-  const auto estimates = ctx_.smoother.TimeOffsets();
+  const auto estimates = ctx_.smoother.Globals();
   for (const auto& [id, index] : time_offsets_) {
-    const SlidingWindowSmoother::TimeOffsetEstimate& e = estimates[index];
+    const SlidingWindowSmoother::GlobalEstimate& e = estimates[index];
     std::optional<TimeOffsetDiagnostics>& d = ctx_.Counters(id).time_offset;
     if (!d) d.emplace();
-    d->offset_s = e.offset_s;
-    d->sigma_s = e.sigma_s;
+    d->offset_s = e.value;
+    d->sigma_s = e.sigma;
     d->clamped = e.num_clamped;
     if (d->history.empty() ||
         t - d->history.back().t_ns >= FromSeconds(kTimeOffsetHistoryPeriodS)) {
-      d->history.push_back({t, e.offset_s, e.sigma_s});
+      d->history.push_back({t, e.value, e.sigma});
     }
   }
 }
@@ -320,7 +353,8 @@ void GnssFrontEnd::OnMarginalized(std::span<const NavState> left) {
       const PropagatedState at{ctx_.output.Carry(*std::prev(it), t_taken), Mat15::Zero()};
       const double d2 =
           a.is_heading ? HeadingMahalanobisSquared(at, a.baseline_imu, a.heading)
-                       : GnssMahalanobisSquared(at, a.p_imu_antenna, a.fix.p_enu, a.fix.covariance);
+                       : GnssMahalanobisSquared(at, a.p_imu_antenna, LessErrorEstimate(a.fix).p_enu,
+                                                a.fix.covariance);
       const RobustKernel& k = a.is_heading ? options_.heading.kernel : options_.gnss.kernel;
       if (k.type != RobustKernelType::kNone && d2 > k.scale * k.scale) {
         ++ctx_.Counters(a.sensor_id).downweighted;

@@ -26,6 +26,7 @@
 // Doppler velocities wait for ENU (headings rejected as not_initialized).
 #pragma once
 
+#include <array>
 #include <deque>
 #include <map>
 #include <optional>
@@ -95,6 +96,12 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   double TimeOffsetEstimate(const std::string& antenna_id) const;
   // The estimates after a solve into the antennas' diagnostics.
   void RecordTimeOffsets();
+  // The smoother's error states of the antenna (created on its first fix) when
+  // gnss.estimate_correlated_error; nullopt otherwise.
+  std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
+  // The fix as the gate sees it: less the antenna's current error estimate, its covariance
+  // plus the estimate's (unchanged when the error is not estimated).
+  GnssPositionEnu LessErrorEstimate(const GnssPositionEnu& fix) const;
   // The raw gyro of the released sample nearest t_ns (zero before any).
   Vec3 RecentGyro(TimeNs t_ns) const;
   void AddHeading(const HeadingInput& in);
@@ -116,6 +123,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   EnuAlignment alignment_;  // while the estimate is in a local frame
   std::map<std::string, InnovationScale> covariance_scales_;  // by antenna (gnss.adapt_covariance)
   std::map<std::string, int> time_offsets_;  // the smoother's index by antenna (since a restart)
+  std::map<std::string, std::array<int, 3>> error_states_;  // likewise, east, north, up
   bool heading_pitch_seen_ = false;
 };
 

@@ -1,6 +1,7 @@
 // Motion-constraint front end: vehicle-model-free factors on the IMU stream. Non-holonomic: the
 // rear axle moves neither sideways nor vertically (sigma growing with the lateral acceleration
-// for slip), at `rate_hz` while no kinematic factor constrains the same motion. Zero velocity:
+// for slip), at `rate_hz` while no kinematic factor constrains the same motion; optionally in a
+// frame turned by the IMU mount's estimated pitch and yaw (`estimate_mount`). Zero velocity:
 // the IMU is quiet over a window (raw, or below ~3 Hz with an engine running) and a speed
 // reading says the vehicle stands: the speed encoder reads zero, else the receiver's Doppler
 // velocity is near zero, else (neither in the setup, or a GNSS outage) the estimated speed is
@@ -29,9 +30,12 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   Claim Claims(const Measurement&) const override { return Claim::kOtherKind; }
   void Process(const Measurement&) override {}
   void OnImu(const ImuSample& s) override;
+  void OnRestart() override { mount_.reset(); }  // the new smoother has no globals
 
  private:
   void AddNonHolonomic(const ImuSample& s);
+  // The window's globals for the IMU mount's pitch and yaw (created on first use), or none.
+  std::optional<SlidingWindowSmoother::MountCorrection> MountCorrection();
   // The zero-velocity factor's sigma when the vehicle stands still, nullopt when it does not.
   std::optional<double> StandingStill(TimeNs t_ns) const;
 
@@ -44,6 +48,7 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   ImuStillWindow recent_imu_;  // released samples over the zero-velocity window
   TimeNs next_nhc_ns_ = INT64_MIN;
   TimeNs next_zupt_ns_ = INT64_MIN;
+  std::optional<SlidingWindowSmoother::MountCorrection> mount_;
 };
 
 }  // namespace statebench::est

@@ -95,6 +95,13 @@ struct NonHolonomicOptions {
   double slip_per_lateral_accel = 0.01;
   double lateral_sigma_mps = 0.1;
   double vertical_sigma_mps = 0.05;
+  // The IMU's mount rotation about the vehicle's lateral and vertical axes (the setup's
+  // T_body_imu is measured by hand) as two globals of the window, prior N(0, sigma^2), held
+  // within +-mount_max_deg: the constraint's frame is turned by them. Off: the setup's rotation
+  // is taken as exact and its uncertainty only added to the output covariance (consider).
+  bool estimate_mount = false;
+  double mount_prior_sigma_deg = 1.0;
+  double mount_max_deg = 5.0;
 };
 
 // Zero-velocity factor when the vehicle stands still: the IMU is quiet over window_s (per-axis

@@ -91,17 +91,23 @@ void SlidingWindowSmoother::Initialize(const NavState& state, const Mat15& covar
 }
 
 AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                                         std::optional<int> time_offset) {
+                                         std::optional<int> time_offset,
+                                         std::optional<std::array<int, 3>> error) {
   Impl& m = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: gnss fix before initialization");
   SqrtInformation<3>(fix.covariance, "gnss fix '" + fix.header.sensor_id + "'");  // validates
   if (!p_imu_antenna.allFinite()) throw InputError("gnss fix: non-finite lever arm");
-  if (time_offset && (*time_offset < 0 || *time_offset >= static_cast<int>(m.globals.size()))) {
+  const auto known = [&m](int i) { return i >= 0 && i < static_cast<int>(m.globals.size()); };
+  if (time_offset && !known(*time_offset)) {
     throw InputError("gnss fix: unknown time offset index");
   }
+  if (error && !(known((*error)[0]) && known((*error)[1]) && known((*error)[2]))) {
+    throw InputError("gnss fix: unknown error state index");
+  }
   const TimeNs t = fix.header.stamp_ns;
-  return m.Add({Impl::FactorKind::kGnss, t, t, [&m, fix, p_imu_antenna, time_offset](Impl::Node& a) {
-                  m.AttachGnss(a, fix, p_imu_antenna, time_offset);
+  return m.Add({Impl::FactorKind::kGnss, t, t,
+                [&m, fix, p_imu_antenna, time_offset, error](Impl::Node& a) {
+                  m.AttachGnss(a, fix, p_imu_antenna, time_offset, error);
                 }});
 }
 
@@ -133,14 +139,25 @@ AddResult SlidingWindowSmoother::AddRelativePose(TimeNs t1_ns, TimeNs t2_ns,
 }
 
 AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
-                                                 const RobustKernel& kernel) {
+                                                 const RobustKernel& kernel,
+                                                 std::optional<MountCorrection> mount) {
   Impl& s = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: velocity before initialization");
   if (!m.sqrt_information.allFinite() || !m.v_frame.allFinite() || !m.p_imu_point.allFinite()) {
     throw InputError("body velocity: non-finite value");
   }
-  return s.Add({Impl::FactorKind::kVelocity, t_ns, t_ns,
-                [&s, t_ns, m, kernel](Impl::Node& a) { s.AttachVelocity(a, t_ns, m, kernel); }});
+  if (mount) {
+    const auto known = [&s](int i) { return i >= 0 && i < static_cast<int>(s.globals.size()); };
+    if (!known(mount->pitch) || !known(mount->yaw)) {
+      throw InputError("body velocity: unknown mount correction index");
+    }
+    if (m.frame != BodyVelocityMeasurement::Frame::kVehicle) {
+      throw InputError("body velocity: a mount correction needs a vehicle-frame measurement");
+    }
+  }
+  return s.Add({Impl::FactorKind::kVelocity, t_ns, t_ns, [&s, t_ns, m, kernel, mount](Impl::Node& a) {
+                  s.AttachVelocity(a, t_ns, m, kernel, mount);
+                }});
 }
 
 AddResult SlidingWindowSmoother::AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps,

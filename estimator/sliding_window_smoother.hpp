@@ -18,6 +18,7 @@
 // linearised system, computed by eliminating the states oldest first (block-tridiagonal, O(N)).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -116,25 +117,36 @@ class SlidingWindowSmoother {
 
   // GNSS antenna fix (ENU) with the antenna's position in the IMU frame. InputError if the
   // covariance is not positive definite or before Initialize. With time_offset (an index
-  // AddTimeOffset gave) the fix stamped t is the antenna at t - offset
+  // AddGlobal gave) the fix stamped t is the antenna at t - offset
   // (gnss_time_offset_factor.hpp); InputError on an index it did not give.
+  // With error (three indices AddGlobal gave: the receiver's slowly varying east, north and up
+  // error) the fix is the antenna plus that error (gnss_error_state_factor.hpp).
   AddResult AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                    std::optional<int> time_offset = std::nullopt);
+                    std::optional<int> time_offset = std::nullopt,
+                    std::optional<std::array<int, 3>> error = std::nullopt);
 
-  // A time offset (s) as a global parameter of the window: a scalar every state's factors may
-  // touch, solved with the states (bordered_chain.hpp) and kept through marginalisation in the
-  // joint prior of the oldest state and the globals (bordered_marginalization_prior.hpp). It
-  // starts at 0 with the prior N(0, prior_sigma_s^2) and is held within +-max_abs_s after each
-  // solve. Returns its index. InputError before Initialize, on a sigma or bound that is not
-  // positive, or with the Ceres solver and keep_all_states (not supported there).
-  int AddTimeOffset(const std::string& name, double prior_sigma_s, double max_abs_s);
-  struct TimeOffsetEstimate {
+  // A global parameter of the window: a scalar every state's factors may touch (a GNSS
+  // receiver's time offset in s, a mount's rotation correction in rad), solved with the states
+  // (bordered_chain.hpp) and kept through marginalisation in the joint prior of the oldest state
+  // and the globals (bordered_marginalization_prior.hpp). It starts at 0 with the prior
+  // N(0, prior_sigma^2) and is held within +-max_abs after each solve. Returns its index.
+  // With a correlation time tau the global is a first-order Gauss-Markov process of stationary
+  // sigma prior_sigma instead of a constant: constant within the window, and each time a state
+  // leaves it (dt to the next), the marginalisation prior carries it on as
+  // e' = exp(-dt/tau) e + w, var(w) = prior_sigma^2 (1 - exp(-2 dt/tau)). The full-batch
+  // smoother (keep_all_states) holds it constant over the log.
+  // InputError before Initialize, on a sigma, bound or tau that is not positive, or with the
+  // Ceres solver and keep_all_states (not supported there).
+  int AddGlobal(const std::string& name, double prior_sigma, double max_abs,
+                std::optional<double> correlation_time_s = std::nullopt);
+  struct GlobalEstimate {
     std::string name;
-    double offset_s = 0.0;
-    double sigma_s = 0.0;  // marginal, from the last solve's linearisation (0 before a solve)
-    int num_clamped = 0;   // solves after which it was held at its bound
+    double value = 0.0;
+    double sigma = 0.0;   // marginal, from the last solve's linearisation (0 before a solve)
+    int num_clamped = 0;  // solves after which it was held at its bound
   };
-  std::vector<TimeOffsetEstimate> TimeOffsets() const;
+  // In the order AddGlobal gave their indices.
+  std::vector<GlobalEstimate> Globals() const;
   // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
   // measurement DualAntennaFactor refuses.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,
@@ -150,8 +162,16 @@ class SlidingWindowSmoother {
                             const RobustKernel& kernel);
   // Velocity of a vehicle point at t_ns (speed encoder, non-holonomic, zero velocity); the raw
   // gyro at the stamp (m.gyro_raw) is filled in from the IMU buffer. Same pending rules.
+  // With mount (two indices AddGlobal gave: the vehicle frame's pitch and yaw corrections, rad)
+  // the measurement frame is turned by them (CreateMountCorrectedBodyVelocityFactor); InputError
+  // on an index it did not give or a world-frame measurement.
+  struct MountCorrection {
+    int pitch = -1;
+    int yaw = -1;
+  };
   AddResult AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
-                            const RobustKernel& kernel);
+                            const RobustKernel& kernel,
+                            std::optional<MountCorrection> mount = std::nullopt);
   // Mean raw gyro over a still span ending at t_end_ns (zero_rate_factor.hpp): a measurement of
   // the gyro bias of the state the span's end belongs to. Same pending rules. InputError on a
   // non-finite mean or a sigma that is not positive.
