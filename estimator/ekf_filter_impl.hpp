@@ -187,8 +187,9 @@ struct EkfSingleTrackEstimator::Impl {
 
   // Standstill without a speed input (no encoder, no odometry), as the factor graph's
   // zero-velocity factor with its default options (zero_velocity_evidence.hpp): the IMU quiet
-  // over still_imu (low band included), the receiver's Doppler mean near zero (or without it the
-  // estimated speed), and the longitudinal specific force less b_a below max_acceleration_mps2
+  // over still_imu (low band included), the receiver's Doppler mean near zero (no update without
+  // Doppler: the estimated speed's test is not used, ekf_zero_velocity.cpp), and the
+  // longitudinal specific force less b_a below max_acceleration_mps2
   // (the planar model's own: a grade's gravity is not separated from b_a, so a stop on a steep
   // grade can fail it); then vx = vy = 0 with the sigma that evidence gives, at rate_hz.
   // Counted as the IMU's `zero_velocity_updates` event.
