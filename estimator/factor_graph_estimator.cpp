@@ -216,7 +216,7 @@ struct FactorGraphEstimator::Impl {
     ctx.diag.local_frame = init->local_frame;
     ctx.diag.Initialized(x.t_ns, init->method);
     ctx.output.SetAnchor(PropagatedState{x, init->covariance});
-    blend.Reset();  // nothing was shown before
+    blend.Start(x.t_ns);  // nothing was shown before
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
     for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);
   }
@@ -247,7 +247,7 @@ struct FactorGraphEstimator::Impl {
       return StartOver();
     }
     ctx.output.SetAnchor(enu);
-    blend.Reset();
+    blend.Start(lagged_ns);
     next_solve_ns = lagged_ns + FromSeconds(options.solve_interval_s);
     ctx.local_frame = false;
     ctx.diag.local_frame = false;

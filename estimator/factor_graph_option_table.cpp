@@ -126,7 +126,11 @@ OptionTable<OutputBlendOptions> OutputBlendTable() {
       .Number("position_rate_mps", &B::position_rate_mps, Range::Positive(),
               "position correction rate (m/s; x dt is the largest step it adds)")
       .Number("rotation_rate_radps", &B::rotation_rate_radps, Range::Positive(),
-              "rotation correction rate (rad/s)");
+              "rotation correction rate (rad/s)")
+      .Number("after_start_s", &B::after_start_s, Range::NonNegative(),
+              "for this long after a (re)start (the estimate converges) ...")
+      .Number("start_max_s", &B::start_max_s, Range::NonNegative(),
+              "... a correction takes at most this (0: it jumps in)");
   return t;
 }
 

@@ -9,7 +9,10 @@ namespace statebench::est {
 
 void OutputBlend::Rebase(const NavState& shown, const NavState& best) {
   offset_.reset();
-  if (!(options_.max_s > 0.0)) return;
+  const bool starting =
+      start_ns_ != INT64_MIN && best.t_ns - start_ns_ < FromSeconds(options_.after_start_s);
+  const double max_s = starting ? std::min(options_.start_max_s, options_.max_s) : options_.max_s;
+  if (!(max_s > 0.0)) return;
   Offset o;
   o.t_ns = best.t_ns;
   o.d << so3::Log<double>(best.q_world_imu.conjugate() * shown.q_world_imu),
@@ -17,7 +20,7 @@ void OutputBlend::Rebase(const NavState& shown, const NavState& best) {
   if (!o.d.allFinite()) return;
   const double at_rate = std::max(o.d.segment<3>(kPositionIndex).norm() / options_.position_rate_mps,
                                   o.d.segment<3>(kRotationIndex).norm() / options_.rotation_rate_radps);
-  o.duration_ns = FromSeconds(std::min(options_.max_s, at_rate));
+  o.duration_ns = FromSeconds(std::min(max_s, at_rate));
   if (o.duration_ns > 0) offset_ = o;
 }
 
