@@ -322,6 +322,7 @@ struct FactorGraphEstimator::Impl {
     ctx.diag.updates.Add(SolveDiagnostics(
         summary, newest.t_ns, std::chrono::duration<double>(stop - start).count()));
 
+    ctx.RecordGlobals();
     for (MeasurementFrontEnd* f : front_ends) f->OnMarginalized(left);
     if (keep_smoothed) smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&
