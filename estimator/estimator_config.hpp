@@ -151,6 +151,14 @@ struct MeasurementGateOptions {
   bool estimate_time_offset = false;
   double time_offset_prior_sigma_s = 0.2;
   double time_offset_max_s = 0.5;
+  // GNSS positions only: each receiver's slowly varying error (multipath, atmosphere; what
+  // averaging fixes does not remove) as three states of the smoother, east, north and up
+  // (gnss_error_state_factor.hpp), each a first-order Gauss-Markov process of these stationary
+  // sigmas and correlation time (shared/REFERENCE.md: tau 30-300 s), held within 5 sigmas.
+  bool estimate_correlated_error = false;
+  double correlated_error_sigma_m = 0.5;           // east and north
+  double correlated_error_vertical_sigma_m = 1.0;  // up
+  double correlated_error_tau_s = 100.0;
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_

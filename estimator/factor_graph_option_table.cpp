@@ -58,7 +58,16 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
         .Number("time_offset_prior_sigma_s", &MeasurementGateOptions::time_offset_prior_sigma_s,
                 Range::Positive(), "prior sigma of the time offset around 0 (s)")
         .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s,
-                Range::Positive(), "the time offset is held within +- this (s)");
+                Range::Positive(), "the time offset is held within +- this (s)")
+        .Flag("estimate_correlated_error", &MeasurementGateOptions::estimate_correlated_error,
+              "estimate each receiver's slowly varying error (Gauss-Markov, ENU) in the smoother")
+        .Number("correlated_error_sigma_m", &MeasurementGateOptions::correlated_error_sigma_m,
+                Range::Positive(), "its stationary sigma, east and north (m)")
+        .Number("correlated_error_vertical_sigma_m",
+                &MeasurementGateOptions::correlated_error_vertical_sigma_m, Range::Positive(),
+                "its stationary sigma, up (m)")
+        .Number("correlated_error_tau_s", &MeasurementGateOptions::correlated_error_tau_s,
+                Range::Positive(), "its correlation time (s)");
   }
   return t;
 }

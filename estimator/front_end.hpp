@@ -88,8 +88,9 @@ class FrontEndContext {
   // end that asks, the same index for every one asking after that (the IMU mount's corrections
   // serve the non-holonomic and the kinematic factors), until the smoother restarts. Its
   // estimate goes to the sensor's diagnostics (SensorCounters::globals) at RecordGlobals.
+  // correlation_time_s: a first-order Gauss-Markov process (AddGlobal).
   int Global(const std::string& sensor_id, const std::string& name, double prior_sigma,
-             double max_abs);
+             double max_abs, std::optional<double> correlation_time_s = std::nullopt);
   std::optional<int> FindGlobal(const std::string& sensor_id, const std::string& name) const;
   // A sensor frame's mount rotation correction (SlidingWindowSmoother::MountCorrection) as the
   // globals "mount_pitch_rad", "mount_yaw_rad" (and "mount_roll_rad" with_roll) of the sensor,

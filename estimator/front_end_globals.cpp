@@ -12,11 +12,13 @@ constexpr const char* kMountAxisGlobals[3] = {"mount_roll_rad", "mount_pitch_rad
 }  // namespace
 
 int FrontEndContext::Global(const std::string& sensor_id, const std::string& name,
-                            double prior_sigma, double max_abs) {
+                            double prior_sigma, double max_abs,
+                            std::optional<double> correlation_time_s) {
   const auto key = std::make_pair(sensor_id, name);
   auto it = globals_.find(key);
   if (it == globals_.end()) {
-    const int index = smoother.AddGlobal(sensor_id + " " + name, prior_sigma, max_abs);
+    const int index = smoother.AddGlobal(sensor_id + " " + name, prior_sigma, max_abs,
+                                           correlation_time_s);
     it = globals_.emplace(key, index).first;
   }
   return it->second;

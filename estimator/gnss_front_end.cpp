@@ -140,7 +140,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
   if (const auto predicted = ctx_.PredictAt(fix.header.stamp_ns - FromSeconds(offset_s))) {
     fix.covariance += PositionCalibrationCovariance(
         options_.gnss_calibration, predicted->state.q_world_imu, predicted->state.v_world, lever);
-    const double d2 = GnssMahalanobisSquared(*predicted, lever, fix.p_enu, fix.covariance);
+    const GnssPositionEnu gated = LessErrorEstimate(fix);
+    const double d2 = GnssMahalanobisSquared(*predicted, lever, gated.p_enu, gated.covariance);
     if (scale != nullptr && scale->Add(d2)) {
       ctx_.Count(id, "covariance_scale_changed");
       ctx_.Counters(id).covariance_scale = scale->scale();
@@ -161,7 +162,8 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     }
   }
   refused_.Clear();
-  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id)) == AddResult::kTooOld) {
+  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id), ErrorStateOf(id)) ==
+      AddResult::kTooOld) {
     return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kTooOld);
   }
   gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
@@ -287,6 +289,31 @@ std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
                      options_.gnss.time_offset_max_s);
 }
 
+std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
+  const MeasurementGateOptions& g = options_.gnss;
+  if (!g.estimate_correlated_error) return std::nullopt;
+  std::array<int, 3> indices{};
+  for (int k = 0; k < 3; ++k) {
+    const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
+    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma,
+                             g.correlated_error_tau_s);
+  }
+  return indices;
+}
+
+GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) const {
+  if (!ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[0])) return fix;
+  const auto globals = ctx_.smoother.Globals();
+  GnssPositionEnu out = fix;
+  for (int k = 0; k < 3; ++k) {
+    const SlidingWindowSmoother::GlobalEstimate& e =
+        globals[*ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[k])];
+    out.p_enu(k) -= e.value;
+    out.covariance(k, k) += e.sigma * e.sigma;
+  }
+  return out;
+}
+
 double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
   const std::optional<int> index = ctx_.FindGlobal(antenna_id, kTimeOffsetGlobal);
   return index ? ctx_.smoother.Globals()[*index].value : 0.0;
@@ -308,7 +335,8 @@ void GnssFrontEnd::OnMarginalized(std::span<const NavState> left) {
       const PropagatedState at{ctx_.output.Carry(*std::prev(it), t_taken), Mat15::Zero()};
       const double d2 =
           a.is_heading ? HeadingMahalanobisSquared(at, a.baseline_imu, a.heading)
-                       : GnssMahalanobisSquared(at, a.p_imu_antenna, a.fix.p_enu, a.fix.covariance);
+                       : GnssMahalanobisSquared(at, a.p_imu_antenna, LessErrorEstimate(a.fix).p_enu,
+                                                a.fix.covariance);
       const RobustKernel& k = a.is_heading ? options_.heading.kernel : options_.gnss.kernel;
       if (k.type != RobustKernelType::kNone && d2 > k.scale * k.scale) {
         ++ctx_.Counters(a.sensor_id).downweighted;

@@ -27,6 +27,7 @@
 // Doppler velocities wait for ENU (headings rejected as not_initialized).
 #pragma once
 
+#include <array>
 #include <deque>
 #include <map>
 #include <optional>
@@ -95,6 +96,14 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   std::optional<int> TimeOffsetOf(const std::string& antenna_id);
   // The antenna's current offset estimate (0 when not estimated).
   double TimeOffsetEstimate(const std::string& antenna_id) const;
+  // The smoother's error states of the antenna (globals created on its first fix, reported as
+  // the antenna's "error_east_m", "error_north_m", "error_up_m") when
+  // gnss.estimate_correlated_error; nullopt otherwise.
+  static constexpr const char* kErrorGlobals[3] = {"error_east_m", "error_north_m", "error_up_m"};
+  std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
+  // The fix as the gate sees it: less the antenna's current error estimate, its covariance
+  // plus the estimate's (unchanged when the error is not estimated).
+  GnssPositionEnu LessErrorEstimate(const GnssPositionEnu& fix) const;
   // The raw gyro of the released sample nearest t_ns (zero before any).
   Vec3 RecentGyro(TimeNs t_ns) const;
   void AddHeading(const HeadingInput& in);

@@ -34,6 +34,8 @@ class GnssTimeOffsetFactor final : public ceres::SizedCostFunction<3, 4, 3, 3, 6
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
+  const Mat3& sqrt_information() const { return position_.sqrt_information(); }
+
  private:
   const GnssPropagatedPositionFactor position_;
   const Vec3 lever_velocity_i_;  // a = dv + dR (omega_t x l), in the IMU frame at i

@@ -2,7 +2,10 @@
 // their marginals after a solve, their bound (sliding_window_smoother.hpp).
 #include <ceres/sized_cost_function.h>
 
+#include <cmath>
+
 #include "core/error.hpp"
+#include "estimator/gauss_markov_prior.hpp"
 #include "estimator/sliding_window_impl.hpp"
 
 namespace statebench::est {
@@ -26,16 +29,20 @@ class GlobalZeroPrior final : public ceres::SizedCostFunction<1, 1> {
 }  // namespace
 
 int SlidingWindowSmoother::AddGlobal(const std::string& name, double prior_sigma,
-                                     double max_abs) {
+                                     double max_abs, std::optional<double> correlation_time_s) {
   Impl& m = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: global '" + name + "' before initialization");
   if (!(prior_sigma > 0.0) || !std::isfinite(prior_sigma) || !(max_abs > 0.0)) {
     throw InputError("global '" + name + "': prior sigma and bound must be positive");
   }
+  if (correlation_time_s && !(*correlation_time_s > 0.0 && std::isfinite(*correlation_time_s))) {
+    throw InputError("global '" + name + "': correlation time must be positive");
+  }
   if (m.options.solver == WindowSolver::kCeres && m.options.keep_all_states) {
     throw InputError("global '" + name + "': not with the Ceres solver and the batch store");
   }
-  Impl::Global g{name, max_abs, std::make_unique<double>(0.0), prior_sigma, 0};
+  Impl::Global g{name, max_abs, std::make_unique<double>(0.0), prior_sigma, 0, prior_sigma,
+                 correlation_time_s.value_or(0.0)};
   m.problem.AddParameterBlock(g.value.get(), 1);
   // Anchored at the oldest state: the prior enters the marginalisation prior when it leaves.
   Impl::Node& anchor = *m.states.front();
@@ -72,6 +79,19 @@ Mat15 SlidingWindowSmoother::Impl::UpdateGlobals(const ChainSystem* system) {
     }
   }
   return marginals.newest_information;
+}
+
+void SlidingWindowSmoother::Impl::CarryGaussMarkovGlobals(double dt_s, LinearSystem* kept) {
+  std::vector<GaussMarkovStep> steps;
+  for (std::size_t i = 0; i < globals.size(); ++i) {
+    Global& g = globals[i];
+    if (g.correlation_time_s <= 0.0) continue;
+    const double rho = std::exp(-dt_s / g.correlation_time_s);
+    *g.value *= rho;
+    steps.push_back({static_cast<Eigen::Index>(15 + i), rho,
+                     g.prior_sigma * g.prior_sigma * (1.0 - rho * rho)});
+  }
+  CarryGaussMarkovPrior(steps, kept);
 }
 
 }  // namespace statebench::est

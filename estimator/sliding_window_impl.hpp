@@ -23,6 +23,7 @@
 #include "estimator/bordered_marginalization_prior.hpp"
 #include "estimator/chain_system.hpp"
 #include "estimator/dual_antenna_factor.hpp"
+#include "estimator/gnss_error_state_factor.hpp"
 #include "estimator/gnss_propagated_position_factor.hpp"
 #include "estimator/gnss_time_offset_factor.hpp"
 #include "estimator/imu_factor.hpp"
@@ -123,6 +124,8 @@ struct SlidingWindowSmoother::Impl {
     std::unique_ptr<double> value;
     double sigma = 0.0;    // marginal, from the last solve (0 before one)
     int num_clamped = 0;   // solves after which it was held at +-max_abs
+    double prior_sigma = 0.0;
+    double correlation_time_s = 0.0;  // > 0: Gauss-Markov (AddGlobal), else constant
   };
   std::vector<Global> globals;
 
@@ -184,23 +187,31 @@ struct SlidingWindowSmoother::Impl {
   }
 
   void AttachGnss(Node& anchor, const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                  std::optional<int> time_offset) {
+                  std::optional<int> time_offset, std::optional<std::array<int, 3>> error) {
+    std::vector<double*> blocks{anchor.x.q_world_imu.data(), anchor.x.p_world.data(),
+                                anchor.x.v_world.data(), anchor.x.bias.data()};
+    std::unique_ptr<ceres::CostFunction> cost;
+    Mat3 S;
     if (time_offset) {
-      double* offset = globals[*time_offset].value.get();
-      auto* cost = new GnssTimeOffsetFactor(fix.p_enu, fix.covariance, p_imu_antenna,
-                                            Preintegrate(anchor, fix.header.stamp_ns),
-                                            anchor.State().q_world_imu, GyroAt(fix.header.stamp_ns));
-      AddFactor(anchor, FactorKind::kGnss, cost, options.gnss_kernel.MakeLossFunction().release(),
-                {anchor.x.q_world_imu.data(), anchor.x.p_world.data(), anchor.x.v_world.data(),
-                 anchor.x.bias.data(), offset});
-      return;
+      auto f = std::make_unique<GnssTimeOffsetFactor>(
+          fix.p_enu, fix.covariance, p_imu_antenna, Preintegrate(anchor, fix.header.stamp_ns),
+          anchor.State().q_world_imu, GyroAt(fix.header.stamp_ns));
+      S = f->sqrt_information();
+      cost = std::move(f);
+      blocks.push_back(globals[*time_offset].value.get());
+    } else {
+      auto f = std::make_unique<GnssPropagatedPositionFactor>(
+          fix.p_enu, fix.covariance, p_imu_antenna, Preintegrate(anchor, fix.header.stamp_ns),
+          anchor.State().q_world_imu);
+      S = f->sqrt_information();
+      cost = std::move(f);
     }
-    auto* cost = new GnssPropagatedPositionFactor(fix.p_enu, fix.covariance, p_imu_antenna,
-                                                  Preintegrate(anchor, fix.header.stamp_ns),
-                                                  anchor.State().q_world_imu);
-    AddFactor(anchor, FactorKind::kGnss, cost, options.gnss_kernel.MakeLossFunction().release(),
-              {anchor.x.q_world_imu.data(), anchor.x.p_world.data(), anchor.x.v_world.data(),
-               anchor.x.bias.data()});
+    if (error) {
+      cost = std::make_unique<GnssErrorStateFactor>(std::move(cost), S);
+      for (int index : *error) blocks.push_back(globals[index].value.get());
+    }
+    AddFactor(anchor, FactorKind::kGnss, cost.release(),
+              options.gnss_kernel.MakeLossFunction().release(), std::move(blocks));
   }
 
   void AttachHeading(Node& anchor, const DualAntennaHeading& heading, const Vec3& p_imu_main,
@@ -358,7 +369,8 @@ struct SlidingWindowSmoother::Impl {
     LinearSystem system;
     Linearize(records, layout, &system);
     num_left_out += system.num_skipped;
-    const LinearSystem kept = SchurComplement(system, 15);
+    LinearSystem kept = SchurComplement(system, 15);
+    CarryGaussMarkovGlobals(ToSeconds(next.t_ns - old.t_ns), &kept);
 
     AddMarginalizationPrior(next, kept);
     // The old state's factors go first, in the order they were added: removing a parameter
@@ -379,6 +391,10 @@ struct SlidingWindowSmoother::Impl {
     first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples, first_kept - imu.begin());
     imu.erase(imu.begin(), first_kept);
   }
+
+  // The Gauss-Markov globals over dt (sliding_window_globals.cpp): their values decay and the
+  // prior `kept` ((15 + G) dims) gains their process noise.
+  void CarryGaussMarkovGlobals(double dt_s, LinearSystem* kept);
 
   // Into the batch store; the marginalisation prior goes (the batch has every factor it
   // summarised), the first state's initial prior stays.

@@ -91,17 +91,23 @@ void SlidingWindowSmoother::Initialize(const NavState& state, const Mat15& covar
 }
 
 AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                                         std::optional<int> time_offset) {
+                                         std::optional<int> time_offset,
+                                         std::optional<std::array<int, 3>> error) {
   Impl& m = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: gnss fix before initialization");
   SqrtInformation<3>(fix.covariance, "gnss fix '" + fix.header.sensor_id + "'");  // validates
   if (!p_imu_antenna.allFinite()) throw InputError("gnss fix: non-finite lever arm");
-  if (time_offset && (*time_offset < 0 || *time_offset >= static_cast<int>(m.globals.size()))) {
+  const auto known = [&m](int i) { return i >= 0 && i < static_cast<int>(m.globals.size()); };
+  if (time_offset && !known(*time_offset)) {
     throw InputError("gnss fix: unknown time offset index");
   }
+  if (error && !(known((*error)[0]) && known((*error)[1]) && known((*error)[2]))) {
+    throw InputError("gnss fix: unknown error state index");
+  }
   const TimeNs t = fix.header.stamp_ns;
-  return m.Add({Impl::FactorKind::kGnss, t, t, [&m, fix, p_imu_antenna, time_offset](Impl::Node& a) {
-                  m.AttachGnss(a, fix, p_imu_antenna, time_offset);
+  return m.Add({Impl::FactorKind::kGnss, t, t,
+                [&m, fix, p_imu_antenna, time_offset, error](Impl::Node& a) {
+                  m.AttachGnss(a, fix, p_imu_antenna, time_offset, error);
                 }});
 }
 

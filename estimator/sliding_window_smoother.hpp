@@ -18,6 +18,7 @@
 // linearised system, computed by eliminating the states oldest first (block-tridiagonal, O(N)).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -118,17 +119,26 @@ class SlidingWindowSmoother {
   // covariance is not positive definite or before Initialize. With time_offset (an index
   // AddGlobal gave) the fix stamped t is the antenna at t - offset
   // (gnss_time_offset_factor.hpp); InputError on an index it did not give.
+  // With error (three indices AddGlobal gave: the receiver's slowly varying east, north and up
+  // error) the fix is the antenna plus that error (gnss_error_state_factor.hpp).
   AddResult AddGnss(const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                    std::optional<int> time_offset = std::nullopt);
+                    std::optional<int> time_offset = std::nullopt,
+                    std::optional<std::array<int, 3>> error = std::nullopt);
 
   // A global parameter of the window: a scalar every state's factors may touch (a GNSS
   // receiver's time offset in s, a mount's rotation correction in rad), solved with the states
   // (bordered_chain.hpp) and kept through marginalisation in the joint prior of the oldest state
   // and the globals (bordered_marginalization_prior.hpp). It starts at 0 with the prior
   // N(0, prior_sigma^2) and is held within +-max_abs after each solve. Returns its index.
-  // InputError before Initialize, on a sigma or bound that is not positive, or with the Ceres
-  // solver and keep_all_states (not supported there).
-  int AddGlobal(const std::string& name, double prior_sigma, double max_abs);
+  // With a correlation time tau the global is a first-order Gauss-Markov process of stationary
+  // sigma prior_sigma instead of a constant: constant within the window, and each time a state
+  // leaves it (dt to the next), the marginalisation prior carries it on as
+  // e' = exp(-dt/tau) e + w, var(w) = prior_sigma^2 (1 - exp(-2 dt/tau)). The full-batch
+  // smoother (keep_all_states) holds it constant over the log.
+  // InputError before Initialize, on a sigma, bound or tau that is not positive, or with the
+  // Ceres solver and keep_all_states (not supported there).
+  int AddGlobal(const std::string& name, double prior_sigma, double max_abs,
+                std::optional<double> correlation_time_s = std::nullopt);
   struct GlobalEstimate {
     std::string name;
     double value = 0.0;
