@@ -56,8 +56,8 @@ struct LidarFactorOptions {
   // roll, pitch and yaw of the lidar frame (R_imu_lidar Exp(c)) as three globals of the window,
   // prior N(0, sigma^2), held within +-mount_max_deg; the factors' and the IMU prior's X is turned
   // by them. Several lidars: the first one's frame (the merged scan's). Off: the setup's rotation
-  // is taken as exact.
-  bool estimate_mount = false;
+  // is taken as exact. On by default (docs/estimator-config.md, "Mount rotations as states").
+  bool estimate_mount = true;
   double mount_prior_sigma_deg = 1.0;
   double mount_max_deg = 5.0;
 };

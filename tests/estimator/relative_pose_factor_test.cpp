@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <memory>
 
 #include "core/error.hpp"
@@ -33,6 +34,31 @@ std::vector<std::vector<double>> RelativePoseBlocks(const NavState& s) {
 
 SE3 PoseOf(const NavState& s) { return SE3(s.q_world_imu, s.p_world); }
 
+NavState TrueStateWithBias(const HelixTrajectory& helix, TimeNs t, const ImuBias& bias) {
+  NavState s = helix.State(t);
+  s.gyro_bias = bias.gyro;
+  s.accel_bias = bias.accel;
+  return s;
+}
+
+// The blocks of the helix's states at the stamps, each perturbed by draws of r3 (a random Vec3).
+template <typename Draw>
+std::vector<std::vector<double>> PerturbedStateBlocks(const HelixTrajectory& helix,
+                                                      std::initializer_list<TimeNs> stamps,
+                                                      Draw& r3) {
+  std::vector<std::vector<double>> blocks;
+  for (TimeNs t : stamps) {
+    NavState x = helix.State(t);
+    x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
+    x.p_world += r3();
+    x.v_world += r3();
+    x.gyro_bias = 0.01 * r3();
+    x.accel_bias = 0.1 * r3();
+    for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
+  }
+  return blocks;
+}
+
 Vec6 Evaluate(const ceres::CostFunction& f, const std::vector<std::vector<double>>& blocks) {
   std::vector<const double*> ptrs;
   for (const auto& b : blocks) ptrs.push_back(b.data());
@@ -58,13 +84,9 @@ TEST(RelativePoseFactor, ZeroResidualAtTheTruthBetweenStates) {
   const std::unique_ptr<ceres::CostFunction> f(CreateRelativePoseFactor(
       m, ImuPreintegration::FromSamples(samples, t_a, t1, ImuNoise{}, lin),
       ImuPreintegration::FromSamples(samples, t_b, t2, ImuNoise{}, lin)));
-  NavState a = helix.State(t_a), b = helix.State(t_b);
-  for (NavState* s : {&a, &b}) {
-    s->gyro_bias = bias.gyro;
-    s->accel_bias = bias.accel;
-  }
+  const NavState a = TrueStateWithBias(helix, t_a, bias);
   auto blocks = RelativePoseBlocks(a);
-  for (auto& blk : RelativePoseBlocks(b)) blocks.push_back(blk);
+  for (auto& blk : RelativePoseBlocks(TrueStateWithBias(helix, t_b, bias))) blocks.push_back(blk);
   const Vec6 r = Evaluate(*f, blocks) / 100.0;
   std::printf("relative pose at the scan stamps: residual %.2e (m, rad)\n", r.norm());
   EXPECT_LT(r.norm(), 1e-6);
@@ -109,16 +131,7 @@ TEST(RelativePoseFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
       ImuPreintegration::FromSamples(samples, t_a, t2, ImuNoise{}, lin)));
   double worst = 0.0;
   for (int trial = 0; trial < 5; ++trial) {
-    std::vector<std::vector<double>> blocks;
-    for (TimeNs t : {t_a, t_b}) {
-      NavState x = helix.State(t);
-      x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-      x.p_world += r3();
-      x.v_world += r3();
-      x.gyro_bias = 0.01 * r3();
-      x.accel_bias = 0.1 * r3();
-      for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
-    }
+    const std::vector<std::vector<double>> blocks = PerturbedStateBlocks(helix, {t_a, t_b}, r3);
     const std::vector<const ceres::Manifold*> manifolds = {&q_manifold, nullptr, nullptr,
                                                            nullptr,     &q_manifold, nullptr,
                                                            nullptr,     nullptr};
@@ -153,13 +166,9 @@ TEST(RelativePoseFactor, MountCorrectionTurnsTheSensorFrame) {
   m.sqrt_information = Mat6::Identity() * 100.0;
   const auto to_t1 = ImuPreintegration::FromSamples(samples, t_a, t1, ImuNoise{}, bias);
   const auto to_t2 = ImuPreintegration::FromSamples(samples, t_b, t2, ImuNoise{}, bias);
-  NavState a = helix.State(t_a), b = helix.State(t_b);
-  for (NavState* s : {&a, &b}) {
-    s->gyro_bias = bias.gyro;
-    s->accel_bias = bias.accel;
-  }
+  const NavState a = TrueStateWithBias(helix, t_a, bias);
   auto blocks = RelativePoseBlocks(a);
-  for (auto& blk : RelativePoseBlocks(b)) blocks.push_back(blk);
+  for (auto& blk : RelativePoseBlocks(TrueStateWithBias(helix, t_b, bias))) blocks.push_back(blk);
   const std::unique_ptr<ceres::CostFunction> plain(CreateRelativePoseFactor(m, to_t1, to_t2));
   const std::unique_ptr<ceres::CostFunction> corrected(
       CreateRelativePoseFactor(m, to_t1, to_t2, MountAxes{true, true, true}));
@@ -190,16 +199,7 @@ TEST(RelativePoseFactor, MountCorrectionTurnsTheSensorFrame) {
     const std::unique_ptr<ceres::CostFunction> one(CreateRelativePoseFactorOneAnchor(
         n, to_t1, ImuPreintegration::FromSamples(samples, t_a, t2, ImuNoise{}, bias), axes));
     for (int trial = 0; trial < 4; ++trial) {
-      std::vector<std::vector<double>> states;
-      for (TimeNs t : {t_a, t_b}) {
-        NavState x = helix.State(t);
-        x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-        x.p_world += r3();
-        x.v_world += r3();
-        x.gyro_bias = 0.01 * r3();
-        x.accel_bias = 0.1 * r3();
-        for (auto& blk : RelativePoseBlocks(x)) states.push_back(blk);
-      }
+      const std::vector<std::vector<double>> states = PerturbedStateBlocks(helix, {t_a, t_b}, r3);
       std::vector<std::vector<double>> corrections;
       for (int i = 0; i < axes.count(); ++i) corrections.push_back({0.05 * normal(rng)});
       std::vector<std::vector<double>> all = states, first(states.begin(), states.begin() + 4);
