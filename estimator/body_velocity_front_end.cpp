@@ -27,7 +27,8 @@ BodyVelocityFrontEnd::BodyVelocityFrontEnd(const EstimatorSensorSetup& setup,
                                            const FactorGraphOptions& options, FrontEndContext& ctx)
     : setup_(setup),
       options_(options),
-      ctx_(ctx) {}
+      ctx_(ctx),
+      still_window_(options.zero_velocity.window_s) {}
 
 Claim BodyVelocityFrontEnd::Claims(const Measurement& m) const {
   if (!std::holds_alternative<BodyVelocity>(m)) return Claim::kOtherKind;
@@ -84,20 +85,25 @@ void BodyVelocityFrontEnd::Process(const Measurement& measurement) {
 }
 
 void BodyVelocityFrontEnd::OnImu(const ImuSample& sample) {
+  still_window_.Push(sample);
   if (zero_since_ns_ && sample.header.stamp_ns > *zero_since_ns_) recent_imu_.push_back(sample);
 }
 
 void BodyVelocityFrontEnd::OnRestart() {
   zero_since_ns_.reset();
   recent_imu_.clear();
+  still_window_.Clear();
 }
 
 void BodyVelocityFrontEnd::AddZeroRate(const std::string& id, TimeNs t_ns) {
   const ZeroVelocityOptions& z = options_.zero_velocity;
   if (recent_imu_.size() < 3) return;
-  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
-  if (!window.Quiet(z)) return;
-  const Vec3& mean_g = window.mean_gyro;
+  const std::optional<ImuWindowStatistics> still =
+      StillSpanStatistics(recent_imu_, still_window_, z);
+  if (!still || !still->Quiet(z)) return;
+  Vec3 mean_g = Vec3::Zero();  // over the span since the previous sample: no sample twice
+  for (const ImuSample& s : recent_imu_) mean_g += s.gyro;
+  mean_g /= static_cast<double>(recent_imu_.size());
   const std::optional<NavState> predicted = ctx_.PredictMeanAt(t_ns);
   if (!predicted || (mean_g - predicted->gyro_bias).norm() > kMaxStillRateRadps) return;
   const double span_s = ToSeconds(recent_imu_.back().header.stamp_ns - *zero_since_ns_);

@@ -8,8 +8,10 @@
 //
 // Wheel odometry reads exactly zero when the wheels stand (no encoder tick): two consecutive
 // samples whose measured components are all below zero_velocity.max_encoder_speed_mps (and
-// whose angular rate about z, when measured, too), with the IMU quiet between them (the
-// zero-velocity thresholds), and its mean rate within kMaxStillRateRadps of the estimated gyro
+// whose angular rate about z, when measured, too), with the IMU quiet (the zero-velocity test
+// over the rolling window ending with the newer sample, or over the span when it is longer:
+// imu_still_window.hpp, so the low band serves an engine running) and its mean rate over the
+// span within kMaxStillRateRadps of the estimated gyro
 // bias (not a steady turn on the spot), prove a standstill over that span: the mean gyro is
 // then a measurement of the gyro bias (zero_rate_factor.hpp, Huber kernel), counted as
 // `zero_rate_factors`. Without an absolute heading it is what keeps the gyro's z bias, hence
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "estimator/front_end.hpp"
+#include "estimator/imu_still_window.hpp"
 
 namespace statebench::est {
 
@@ -53,6 +56,7 @@ class BodyVelocityFrontEnd final : public MeasurementFrontEnd {
   FrontEndContext& ctx_;
   std::optional<TimeNs> zero_since_ns_;  // the previous sample read zero, at this stamp
   std::vector<ImuSample> recent_imu_;    // released samples after zero_since_ns_
+  ImuStillWindow still_window_;          // the newest released samples, for the still test
 };
 
 }  // namespace statebench::est

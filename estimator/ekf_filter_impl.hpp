@@ -15,10 +15,12 @@
 #include <vector>
 
 #include "core/so3.hpp"
+#include "estimator/doppler_window.hpp"
 #include "estimator/ekf_course_start.hpp"
 #include "estimator/ekf_single_track.hpp"
 #include "estimator/ekf_single_track_model.hpp"
 #include "estimator/gnss_enu.hpp"
+#include "estimator/imu_still_window.hpp"
 #include "estimator/refused_fix_track.hpp"
 #include "estimator/state_initializer.hpp"
 
@@ -70,6 +72,7 @@ struct EkfSingleTrackEstimator::Impl {
   std::map<std::string, SensorInfo> sensors;
   std::string course_antenna;
   bool has_steering = false;  // without a steering encoder r is a random walk, vy relaxes to 0
+  bool has_speed_input = false;  // a speed encoder or a body_velocity sensor
   std::optional<ekf::SingleTrackModel> model;  // once the setup is read
   // Without a GNSS antenna the filter starts in a local frame (ekf_local_start.cpp) from this
   // initialiser (the factor graph's, state_initializer.hpp); its WGS84 output is local_frame,
@@ -171,13 +174,28 @@ struct EkfSingleTrackEstimator::Impl {
   // Standstill from the odometry, as the factor graph's zero-rate factor
   // (body_velocity_front_end.hpp): two consecutive samples of a body_velocity sensor reading
   // zero (BodyVelocityReadsZero, ZeroVelocityOptions' max_encoder_speed_mps), the IMU quiet
-  // between them (ZeroVelocityOptions' gyro and accel thresholds) and its mean body-z rate within
+  // (the factor graph's default still test, low band included, over the rolling window ending
+  // with the newer sample or over the span when longer: imu_still_window.hpp) and its mean
+  // body-z rate over the span within
   // BodyVelocityFrontEnd::kMaxStillRateRadps of b_g: that mean measures b_g with the sigma
   // gyro_sigma_radps / sqrt(samples). Counted as the sensor's `zero_rate_updates` event.
   // Without an absolute heading it is what keeps b_g, hence the yaw, from drifting.
   void UpdateStandstill(const std::string& id, const BodyVelocity& m);
   std::optional<TimeNs> odometry_zero_since_ns;  // the previous sample read zero, at this stamp
   std::vector<ImuSample> standstill_imu;         // IMU samples after odometry_zero_since_ns
+  ImuStillWindow still_imu{ZeroVelocityOptions{}.window_s};  // the newest, for the still test
+
+  // Standstill without a speed input (no encoder, no odometry), as the factor graph's
+  // zero-velocity factor with its default options (zero_velocity_evidence.hpp): the IMU quiet
+  // over still_imu (low band included), the receiver's Doppler mean near zero (no update without
+  // Doppler: the estimated speed's test is not used, ekf_zero_velocity.cpp), and the
+  // longitudinal specific force less b_a below max_acceleration_mps2
+  // (the planar model's own: a grade's gravity is not separated from b_a, so a stop on a steep
+  // grade can fail it); then vx = vy = 0 with the sigma that evidence gives, at rate_hz.
+  // Counted as the IMU's `zero_velocity_updates` event.
+  void UpdateZeroVelocity(TimeNs t_ns);
+  DopplerWindow doppler;  // every Doppler velocity, gated or not
+  TimeNs next_zero_velocity_ns = INT64_MIN;
 
   // Dual-antenna heading: yaw of the baseline = psi + its yaw in the body frame (the
   // vehicle is planar, the baseline's pitch is not used).

@@ -7,7 +7,7 @@
 #include "estimator/body_velocity_front_end.hpp"
 #include "estimator/ekf_filter_impl.hpp"
 #include "estimator/ekf_point_velocity.hpp"
-#include "estimator/imu_window_statistics.hpp"
+#include "estimator/imu_still_window.hpp"
 
 namespace statebench::est {
 
@@ -71,15 +71,17 @@ void EkfSingleTrackEstimator::Impl::UpdateBodyVelocity(const std::string& id,
 }
 
 void EkfSingleTrackEstimator::Impl::UpdateStandstill(const std::string& id, const BodyVelocity& m) {
-  // The factor graph's defaults, raw samples only (the low band's test is not measured on the
-  // EKF's standstill update yet).
-  ZeroVelocityOptions thresholds;
-  thresholds.lowpass_s = 0.0;
+  // The factor graph's default still test, low band included (imu_still_window.hpp).
+  const ZeroVelocityOptions thresholds;
   const bool zero = BodyVelocityReadsZero(m, thresholds.max_encoder_speed_mps);
   if (zero && odometry_zero_since_ns && standstill_imu.size() >= 3) {
-    const ImuWindowStatistics window = ComputeImuWindowStatistics(standstill_imu, thresholds);
-    const double mean_rate = (R_body_imu * window.mean_gyro).z();
-    if (window.Quiet(thresholds) &&
+    const std::optional<ImuWindowStatistics> still =
+        StillSpanStatistics(standstill_imu, still_imu, thresholds);
+    Vec3 mean_gyro = Vec3::Zero();  // over the span since the previous sample: no sample twice
+    for (const ImuSample& s : standstill_imu) mean_gyro += s.gyro;
+    mean_gyro /= static_cast<double>(standstill_imu.size());
+    const double mean_rate = (R_body_imu * mean_gyro).z();
+    if (still && still->Quiet(thresholds) &&
         std::abs(mean_rate - x[ekf::kBg]) <= BodyVelocityFrontEnd::kMaxStillRateRadps) {
       Eigen::Matrix<double, 1, kN> H = Eigen::Matrix<double, 1, kN>::Zero();
       H(0, ekf::kBg) = 1.0;

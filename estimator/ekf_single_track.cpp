@@ -47,6 +47,7 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
         break;
       case SensorKind::kSpeedEncoder:
         info.role = Role::kSpeed;
+        has_speed_input = true;
         break;
       case SensorKind::kSteeringEncoder:
         info.role = Role::kSteering;
@@ -54,6 +55,7 @@ EkfSingleTrackEstimator::Impl::Impl(const EstimatorSensorSetup& s, const EkfOpti
         break;
       case SensorKind::kBodyVelocity:
         info.role = Role::kBodyVelocity;
+        has_speed_input = true;
         break;
       default:
         info.role = Role::kUnsupported;
@@ -104,7 +106,11 @@ void EkfSingleTrackEstimator::Impl::Apply(const std::string& id, const SensorInf
       return;
     }
     UpdateGnss(id, info, *enu);
-    if (enu->velocity && initialized) UpdateGnssVelocity(id, info, *enu);  // not after StartOver
+    if (enu->velocity) {
+      doppler.Add(enu->header.stamp_ns, enu->velocity->v_enu.head<2>(),
+                  enu->velocity->sigma_enu.head<2>());
+      if (initialized) UpdateGnssVelocity(id, info, *enu);  // not after StartOver
+    }
   } else if (const auto* speed = std::get_if<VehicleSpeed>(&m)) {
     encoder_speed = speed->speed_mps;
     if (!initialized) {
@@ -172,6 +178,7 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   last_imu_ns = sample.header.stamp_ns;
   if (!initialized && local_start) TryStartLocal(sample, gyro_body.z());
   if (!initialized) return;
+  still_imu.Push(sample);
   if (odometry_zero_since_ns && sample.header.stamp_ns > *odometry_zero_since_ns) {
     standstill_imu.push_back(sample);
     if (standstill_imu.size() > kMaxStandstillSamples) {  // the odometry stopped reading
@@ -181,6 +188,7 @@ void EkfSingleTrackEstimator::Impl::AddImu(const std::string& id, const ImuSampl
   }
   Propagate(sample.header.stamp_ns);
   UpdateGyro(gyro_body.z());
+  UpdateZeroVelocity(sample.header.stamp_ns);
   PushHistory();
 }
 

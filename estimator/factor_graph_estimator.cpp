@@ -80,7 +80,11 @@ struct FactorGraphEstimator::Impl {
     }
     Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
                                             setup.antennas.front().p_imu_antenna, b, pitch);
-    if (options.non_holonomic.enabled && !options.non_holonomic.estimate_mount) {
+    // The motion constraints align the velocity with the vehicle frame as the setup gives it,
+    // unless the non-holonomic constraint estimates the IMU mount (the kinematic factor, which
+    // replaces it while the encoders run, is turned by the same globals then).
+    const NonHolonomicOptions& nhc = options.non_holonomic;
+    if (nhc.enabled && !nhc.estimate_mount) {
       C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
           options.gnss_calibration, setup.T_body_imu.rotation());
     }

@@ -249,6 +249,9 @@ OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
               "without an encoder: GNSS Doppler velocities averaged over this")
       .Number("max_doppler_speed_mps", &Z::max_doppler_speed_mps, p,
               "without an encoder: their mean's horizontal speed below")
+      .Number("doppler_agreement_sigmas", &Z::doppler_agreement_sigmas, Range::NonNegative(),
+              "their mean within this many of its sigmas of zero: the factor's sigma is that "
+              "sigma")
       .Number("max_estimated_speed_mps", &Z::max_estimated_speed_mps, p,
               "without an encoder or Doppler: estimated speed below")
       .Number("estimated_speed_sigmas", &Z::estimated_speed_sigmas, Range::NonNegative(),

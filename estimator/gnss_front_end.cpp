@@ -13,7 +13,6 @@ namespace statebench::est {
 namespace {
 
 constexpr TimeNs kRecentImuNs = 2 * kNsPerSecond;  // longer than any reorder latency
-constexpr double kDopplerKeepS = 5.0;  // Doppler velocities kept for the standstill test
 
 }  // namespace
 
@@ -198,18 +197,6 @@ void GnssFrontEnd::AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu
   gnss_gate_ = heading_gate_ = velocity_gate_ = GateState{t, false};
 }
 
-std::optional<Vec2> GnssFrontEnd::MeanDopplerVelocity(TimeNs from_ns, TimeNs to_ns) const {
-  Vec2 sum = Vec2::Zero();
-  int n = 0;
-  for (const auto& [t, v] : doppler_) {
-    if (t < from_ns || t > to_ns) continue;
-    sum += v;
-    ++n;
-  }
-  if (n == 0) return std::nullopt;
-  return sum / n;
-}
-
 void GnssFrontEnd::AddVelocity(const PositionInput& in) {
   const GnssPositionEnu& fix = in.fix;
   const GnssVelocity& velocity = *fix.velocity;
@@ -218,8 +205,7 @@ void GnssFrontEnd::AddVelocity(const PositionInput& in) {
   if (velocity.sigma_enu.maxCoeff() > options_.gnss_velocity.max_sigma) {
     return ctx_.Count(id, "velocity_too_noisy");
   }
-  doppler_.emplace_back(t, velocity.v_enu.head<2>());
-  while (doppler_.front().first < t - FromSeconds(kDopplerKeepS)) doppler_.pop_front();
+  doppler_.Add(t, velocity.v_enu.head<2>(), velocity.sigma_enu.head<2>());
   if (const auto predicted = ctx_.PredictAt(t)) {
     const double d2 =
         GnssVelocityMahalanobisSquared(*predicted, in.p_imu_antenna, RecentGyro(t), velocity);

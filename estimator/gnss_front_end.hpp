@@ -34,6 +34,7 @@
 #include <string>
 
 #include "core/geodetic.hpp"
+#include "estimator/doppler_window.hpp"
 #include "estimator/estimator_config.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/gnss_stamp_group.hpp"
@@ -52,10 +53,9 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   const std::optional<LocalEnuFrame>& frame() const { return frame_; }
   // A heading with a pitch (and its sigma) has been accepted: the baseline measures pitch.
   bool heading_pitch_seen() const { return heading_pitch_seen_; }
-  // The mean horizontal (east, north) Doppler velocity of the fixes stamped in [from, to], gated
-  // or not (a speed reading for the standstill test, independent of the estimate); nullopt
-  // without one. Readings are kept for 5 s.
-  std::optional<Vec2> MeanDopplerVelocity(TimeNs from_ns, TimeNs to_ns) const;
+  // The receiver's Doppler velocities, gated or not (doppler_window.hpp): the standstill test's
+  // speed reading, independent of the estimate.
+  const DopplerWindow& doppler() const { return doppler_; }
 
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
@@ -117,7 +117,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   std::map<std::string, DualAntennaHeading> headings_;  // by heading id
   TimeNs stamp_ns_ = 0;
   GateState gnss_gate_, heading_gate_, velocity_gate_;
-  std::deque<std::pair<TimeNs, Vec2>> doppler_;  // horizontal Doppler velocities, oldest first
+  DopplerWindow doppler_;
   std::deque<ImuSample> recent_imu_;  // the last kRecentImuNs of released samples
   std::deque<Accepted> accepted_;  // in the smoother, oldest first
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "estimator/imu_window_statistics.hpp"
+#include "estimator/zero_velocity_evidence.hpp"
 
 namespace statebench::est {
 
@@ -16,25 +17,21 @@ MotionConstraintFrontEnd::MotionConstraintFrontEnd(const EstimatorSensorSetup& s
       options_(options),
       encoders_(encoders),
       gnss_(gnss),
-      ctx_(ctx) {}
+      ctx_(ctx),
+      recent_imu_(options.zero_velocity.window_s) {}
 
 void MotionConstraintFrontEnd::OnImu(const ImuSample& s) {
-  recent_imu_.push_back(s);
-  while (s.header.stamp_ns - recent_imu_.front().header.stamp_ns >
-         FromSeconds(options_.zero_velocity.window_s)) {
-    recent_imu_.pop_front();
-  }
+  recent_imu_.Push(s);
   if (!ctx_.initialized) return;
   const TimeNs t = s.header.stamp_ns;
   AddNonHolonomic(s);
   const ZeroVelocityOptions& z = options_.zero_velocity;
-  if (z.enabled && t >= next_zupt_ns_ && StandingStill(t)) {
+  if (!z.enabled || t < next_zupt_ns_) return;
+  if (const std::optional<double> sigma = StandingStill(t)) {
     next_zupt_ns_ = t + FromSeconds(1.0 / z.rate_hz);
-    ctx_.MeasureStillImu(recent_imu_);
+    ctx_.MeasureStillImu(recent_imu_.samples());
     BodyVelocityMeasurement m;
-    const double sigma =
-        encoders_.has_speed_encoder() ? z.sigma_mps : z.sigma_without_encoder_mps;
-    m.sqrt_information = Mat3::Identity() / sigma;
+    m.sqrt_information = Mat3::Identity() / *sigma;
     if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{}) != AddResult::kTooOld) {
       ctx_.Count(imu_id_, "zero_velocity_factors");
     }
@@ -70,54 +67,36 @@ std::optional<SlidingWindowSmoother::MountCorrection> ImuMountCorrection(
                           nhc.mount_max_deg * M_PI / 180.0, /*with_roll=*/false);
 }
 
-namespace {
-
-// The estimated horizontal speed is within max_estimated_speed_mps + estimated_speed_sigmas x
-// its sigma (along the estimated velocity) of zero: in a GNSS outage the speed drifts away from
-// a stop the IMU shows (a tilt error of 0.01 rad leaks 0.1 m/s^2 of gravity).
-bool EstimatedSpeedNearZero(const PropagatedState& predicted, const ZeroVelocityOptions& z) {
-  const Vec3& v = predicted.state.v_world;
-  const Vec2 v_h = v.head<2>();
-  const double speed = v_h.norm();
-  double sigma = 0.0;
-  if (speed > 0.0) {
-    const Vec2 u = v_h / speed;
-    const Mat2 P = predicted.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex);
-    sigma = std::sqrt(std::max(0.0, u.dot(P * u)));
-  }
-  return std::hypot(speed, v.z()) < z.max_estimated_speed_mps + z.estimated_speed_sigmas * sigma;
-}
-
-}  // namespace
-
 // The IMU is quiet over the window and the speed encoder reads zero over it (without one, the
 // Doppler velocity's mean is near zero, or without that the estimated speed is low).
-bool MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
+std::optional<double> MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const {
   const ZeroVelocityOptions& z = options_.zero_velocity;
-  if (recent_imu_.size() < 3 ||
-      t_ns - recent_imu_.front().header.stamp_ns < FromSeconds(0.9 * z.window_s)) {
-    return false;
-  }
-  const ImuWindowStatistics window = ComputeImuWindowStatistics(recent_imu_, z);
-  if (!window.Quiet(z)) return false;
-  const Vec3& mean_a = window.mean_accel;
+  const std::optional<ImuWindowStatistics> window = recent_imu_.Statistics(z);
+  if (!window || !window->Quiet(z)) return std::nullopt;
+  const Vec3& mean_a = window->mean_accel;
   if (encoders_.has_speed_encoder()) {
     // Zero over the whole window: between two ticks of a creeping wheel the encoder reads zero.
     const auto last = encoders_.last_speed();
-    return last && t_ns - last->first < FromSeconds(0.5) &&
-           encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps);
+    if (last && t_ns - last->first < FromSeconds(0.5) &&
+        encoders_.ReadsZeroSince(t_ns - FromSeconds(z.window_s), z.max_encoder_speed_mps)) {
+      return z.sigma_mps;
+    }
+    return std::nullopt;
   }
   const std::optional<NavState> x = ctx_.PredictMeanAt(t_ns);
-  if (!x) return false;
-  const std::optional<Vec2> doppler =
-      gnss_.MeanDopplerVelocity(t_ns - FromSeconds(z.doppler_window_s), t_ns);
+  if (!x) return std::nullopt;
   // The covariance only where the test reads it (no Doppler).
-  if (doppler ? !(doppler->norm() < z.max_doppler_speed_mps)
-              : !EstimatedSpeedNearZero(*ctx_.PredictAt(t_ns), z)) {
-    return false;
-  }
+  const std::optional<double> sigma = ZeroVelocitySigmaWithoutEncoder(
+      z, gnss_.doppler().Mean(t_ns - FromSeconds(z.doppler_window_s), t_ns), [&] {
+        const PropagatedState p = *ctx_.PredictAt(t_ns);
+        const Vec3& v = p.state.v_world;
+        return EstimatedSpeedNearZero(
+            v.head<2>(), v.z(), p.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex), z);
+      });
+  if (!sigma) return std::nullopt;
   const Vec3 acceleration = x->q_world_imu * (mean_a - x->accel_bias) + kGravityWorld;
-  return acceleration.norm() < z.max_acceleration_mps2;
+  if (!(acceleration.norm() < z.max_acceleration_mps2)) return std::nullopt;
+  return sigma;
 }
 
 }  // namespace statebench::est

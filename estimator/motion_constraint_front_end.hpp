@@ -5,16 +5,18 @@
 // the IMU is quiet over a window (raw, or below ~3 Hz with an engine running) and a speed
 // reading says the vehicle stands: the speed encoder reads zero, else the receiver's Doppler
 // velocity is near zero, else (neither in the setup, or a GNSS outage) the estimated speed is
-// low (motion_factor_options.hpp, ZeroVelocityOptions).
+// low (motion_factor_options.hpp, ZeroVelocityOptions). The factor's sigma is the creep the
+// speed reading cannot rule out: sigma_mps with an encoder, the sigma of the Doppler mean when
+// that mean agrees with zero, else sigma_without_encoder_mps.
 #pragma once
 
-#include <deque>
 #include <optional>
 
 #include "estimator/encoder_front_end.hpp"
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end.hpp"
 #include "estimator/gnss_front_end.hpp"
+#include "estimator/imu_still_window.hpp"
 
 namespace statebench::est {
 
@@ -37,7 +39,8 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
 
  private:
   void AddNonHolonomic(const ImuSample& s);
-  bool StandingStill(TimeNs t_ns) const;
+  // The zero-velocity factor's sigma when the vehicle stands still, nullopt when it does not.
+  std::optional<double> StandingStill(TimeNs t_ns) const;
 
   const std::string imu_id_;
   const FactorPlan& plan_;
@@ -45,7 +48,7 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   const EncoderFrontEnd& encoders_;
   const GnssFrontEnd& gnss_;
   FrontEndContext& ctx_;
-  std::deque<ImuSample> recent_imu_;  // released samples over the zero-velocity window
+  ImuStillWindow recent_imu_;  // released samples over the zero-velocity window
   TimeNs next_nhc_ns_ = INT64_MIN;
   TimeNs next_zupt_ns_ = INT64_MIN;
 };

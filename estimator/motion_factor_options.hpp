@@ -56,7 +56,7 @@ struct LidarFactorOptions {
   // roll, pitch and yaw of the lidar frame (R_imu_lidar Exp(c)) as three globals of the window,
   // prior N(0, sigma^2), held within +-mount_max_deg; the factors' and the IMU prior's X is turned
   // by them. Several lidars: the first one's frame (the merged scan's). Off: the setup's rotation
-  // is taken as exact. On by default (docs/estimator-config.md, "Mount rotations as states").
+  // is taken as exact. On by default (docs/calibration-states.md).
   bool estimate_mount = true;
   double mount_prior_sigma_deg = 1.0;
   double mount_max_deg = 5.0;
@@ -135,6 +135,11 @@ struct ZeroVelocityOptions {
   // 0.07 m/s per axis gives 4 readings a second, their mean 0.035 m/s.
   double doppler_window_s = 1.0;
   double max_doppler_speed_mps = 0.2;
+  // When that mean also agrees with zero within this many of its own sigmas (per axis, the
+  // reported sigmas / sqrt(n); 2 degrees of freedom: 3 keeps 98.9 % of true standstills), a creep
+  // the test cannot rule out is of the order of that sigma: it is the factor's sigma (within
+  // [sigma_mps, sigma_without_encoder_mps]); 4 readings of 0.07 m/s give 0.035 m/s. 0: never.
+  double doppler_agreement_sigmas = 3.0;
   // Without an encoder or Doppler: the estimated speed below max_estimated_speed_mps plus this
   // many of its sigmas (0: below max_estimated_speed_mps only).
   double max_estimated_speed_mps = 0.3;
@@ -142,7 +147,8 @@ struct ZeroVelocityOptions {
   double max_acceleration_mps2 = 0.3;
   double sigma_mps = 0.005;
   // Without an encoder the test cannot rule out a creep below max_estimated_speed_mps: the
-  // factor's sigma is then this (a third of that speed), not sigma_mps.
+  // factor's sigma is then this (a third of that speed), not sigma_mps, unless the Doppler
+  // mean agrees with zero (doppler_agreement_sigmas).
   double sigma_without_encoder_mps = 0.1;
 };
 

@@ -19,6 +19,7 @@
 #include "core/state.hpp"
 #include "core/yaml_node.hpp"
 #include "differential_drive_trajectory.hpp"
+#include "idle_tone.hpp"
 #include "estimator/estimator.hpp"
 #include "estimator/estimator_config.hpp"
 #include "estimator/imu_noise.hpp"
@@ -80,6 +81,7 @@ struct RobotStreamOptions {
   std::uint64_t seed = 1;
   double extra_gyro_sigma_radps = 0.0;  // white vibration on top of the datasheet noise
   bool odometry = true;
+  bool idle_tone = false;  // an idle engine's vibration on every IMU sample (idle_tone.hpp)
 };
 
 // IMU at 100 Hz (datasheet noise and bias random walk, turn-on biases) and wheel odometry at
@@ -96,6 +98,7 @@ inline std::vector<Measurement> RobotStream(const DifferentialDriveTrajectory& t
   Vec3 bg(1.5e-3, -2.0e-3, 2.5e-3), ba(0.04, -0.03, 0.05);  // turn-on biases
   std::vector<Measurement> stream;
   const double end_s = std::min(o.end_s, traj.duration_s() + 2.0);
+  const IdleTone tone(o.seed);
   for (int k = 0; o.start_s + k * dt <= end_s; ++k) {
     const TimeNs t_ns = FromSeconds(o.start_s + k * dt);
     const double t = ToSeconds(t_ns);
@@ -108,6 +111,7 @@ inline std::vector<Measurement> RobotStream(const DifferentialDriveTrajectory& t
     s.accel = traj.Accel(t) + ba + (n.accel_noise_density / std::sqrt(dt)) * r3();
     bg += n.gyro_random_walk * std::sqrt(dt) * r3();
     ba += n.accel_random_walk * std::sqrt(dt) * r3();
+    if (o.idle_tone) tone.Add(t, &s);
     stream.push_back(s);
     if (o.odometry && k % 10 == 0) {
       BodyVelocity v;
