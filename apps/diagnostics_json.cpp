@@ -25,15 +25,15 @@ nlohmann::json DiagnosticsJson(const est::EstimatorDiagnostics& d) {
                    {"events", c.events},
                    {"last_accepted_s", ToSeconds(c.last_accepted_ns)}};
     if (c.covariance_scale) sensors[id]["covariance_scale"] = *c.covariance_scale;
-    if (c.time_offset) {
+    for (const auto& [name, g] : c.globals) {
       nlohmann::json history = nlohmann::json::array();
-      for (const est::TimeOffsetDiagnostics::Sample& h : c.time_offset->history) {
-        history.push_back({ToSeconds(h.t_ns), h.offset_s, h.sigma_s});
+      for (const est::GlobalDiagnostics::Sample& h : g.history) {
+        history.push_back({ToSeconds(h.t_ns), h.value, h.sigma});
       }
-      sensors[id]["time_offset"] = {{"offset_s", c.time_offset->offset_s},
-                                    {"sigma_s", c.time_offset->sigma_s},
-                                    {"clamped", c.time_offset->clamped},
-                                    {"history_t_offset_sigma_s", history}};
+      sensors[id]["globals"][name] = {{"value", g.value},
+                                      {"sigma", g.sigma},
+                                      {"clamped", g.clamped},
+                                      {"history_t_value_sigma", history}};
     }
   }
   const est::UpdateLog& u = d.updates;

@@ -4,6 +4,7 @@
 
 #include "core/so3.hpp"
 #include "estimator/body_velocity_front_end.hpp"
+#include "estimator/motion_constraint_front_end.hpp"
 
 namespace statebench::est {
 
@@ -91,7 +92,10 @@ void EncoderFrontEnd::ProcessSpeed(const VehicleSpeed& v) {
   m.T_imu_sensor = plan_.T_imu_axle;
   m.sqrt_information = motion->sqrt_information;
   RobustKernel kernel;  // Huber at 3 sigma: wheel slip
-  if (ctx_.smoother.AddRelativePose(motion->t1_ns, motion->t2_ns, m, kernel) ==
+  // The axle frame is the vehicle frame of the non-holonomic constraint: the same IMU mount
+  // correction, when estimated.
+  const auto mount = ImuMountCorrection(options_.non_holonomic, setup_.imu_id, ctx_);
+  if (ctx_.smoother.AddRelativePose(motion->t1_ns, motion->t2_ns, m, kernel, mount) ==
       AddResult::kTooOld) {
     return ctx_.Count(id, "kinematic_factor_too_old");
   }

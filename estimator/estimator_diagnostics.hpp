@@ -45,20 +45,21 @@ std::string_view RejectReasonName(RejectReason reason);
 using VerdictObserver = std::function<void(const std::string& sensor_id, TimeNs stamp_ns,
                                            std::optional<RejectReason> rejected)>;
 
-// A GNSS receiver's time offset to the IMU as the smoother estimates it (gnss.estimate_time_offset;
-// sign: gnss_time_offset_factor.hpp).
-struct TimeOffsetDiagnostics {
-  double offset_s = 0.0;
-  double sigma_s = 0.0;  // marginal of the last solve
-  int clamped = 0;       // solves after which it was held at its bound
+// A global of the window that belongs to a sensor as the smoother estimates it
+// (FrontEndContext::Global): a GNSS receiver's time offset to the IMU (gnss.estimate_time_offset;
+// s, sign: gnss_time_offset_factor.hpp), a mount's rotation correction (rad).
+struct GlobalDiagnostics {
+  double value = 0.0;
+  double sigma = 0.0;  // marginal of the last solve
+  int clamped = 0;     // solves after which it was held at its bound
   struct Sample {
     TimeNs t_ns = 0;
-    double offset_s = 0.0;
-    double sigma_s = 0.0;
+    double value = 0.0;
+    double sigma = 0.0;
   };
-  std::vector<Sample> history;  // one per kTimeOffsetHistoryPeriodS of solves
+  std::vector<Sample> history;  // one per kGlobalHistoryPeriodS of solves
 };
-inline constexpr double kTimeOffsetHistoryPeriodS = 1.0;
+inline constexpr double kGlobalHistoryPeriodS = 1.0;
 
 struct SensorCounters {
   std::uint64_t received = 0;
@@ -74,7 +75,8 @@ struct SensorCounters {
   // The factor the estimator applies to the reported covariance, when it adapts it (GNSS
   // positions: innovation_scale.hpp); nullopt while it never changed from 1.
   std::optional<double> covariance_scale;
-  std::optional<TimeOffsetDiagnostics> time_offset;  // GNSS receivers, when estimated
+  // The sensor's globals by name with unit ("time_offset_s", "mount_pitch_rad"), when estimated.
+  std::map<std::string, GlobalDiagnostics> globals;
 
   // Counts an accepted measurement stamped stamp_ns.
   void Accept(TimeNs stamp_ns);

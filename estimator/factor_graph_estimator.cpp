@@ -82,9 +82,9 @@ struct FactorGraphEstimator::Impl {
                                             setup.antennas.front().p_imu_antenna, b, pitch);
     // The motion constraints align the velocity with the vehicle frame as the setup gives it,
     // unless the non-holonomic constraint estimates the IMU mount (the kinematic factor, which
-    // replaces it while the encoders run, does not).
+    // replaces it while the encoders run, is turned by the same globals then).
     const NonHolonomicOptions& nhc = options.non_holonomic;
-    if (nhc.enabled && (!nhc.estimate_mount || plan.kinematic)) {
+    if (nhc.enabled && !nhc.estimate_mount) {
       C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
           options.gnss_calibration, setup.T_body_imu.rotation());
     }
@@ -326,6 +326,7 @@ struct FactorGraphEstimator::Impl {
     ctx.diag.updates.Add(SolveDiagnostics(
         summary, newest.t_ns, std::chrono::duration<double>(stop - start).count()));
 
+    ctx.RecordGlobals();
     for (MeasurementFrontEnd* f : front_ends) f->OnMarginalized(left);
     if (keep_smoothed) smoothed.insert(smoothed.end(), left.begin(), left.end());
     if (newest.q_world_imu.coeffs().allFinite() && newest.p_world.allFinite() &&

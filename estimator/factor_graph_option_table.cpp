@@ -182,6 +182,13 @@ OptionTable<LidarFactorOptions> LidarTable() {
           "imu, constant_velocity, gyro",
           "guess and deskew: the estimator's IMU prediction; or, shared between estimators, the "
           "odometry's constant velocity, or that with the raw gyro's rotation")
+      .Flag("estimate_mount", &L::estimate_mount,
+            "estimate the lidar mount's roll, pitch and yaw against the IMU (three window "
+            "globals)")
+      .Number("mount_prior_sigma_deg", &L::mount_prior_sigma_deg, Range::Positive(),
+              "prior sigma of each mount angle")
+      .Number("mount_max_deg", &L::mount_max_deg, Range::Positive(),
+              "each mount angle held within +-this")
       .AddRule([](const L& o) -> std::optional<std::pair<std::string, std::string>> {
         if (o.odometry.max_range_m > o.odometry.min_range_m) return std::nullopt;
         return std::make_pair(std::string("max_range_m"), std::string("must exceed min_range_m"));

@@ -8,6 +8,7 @@
 // orchestrator (FactorGraphEstimator::Impl::front_ends); the intake finds it through Claims().
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -75,11 +76,33 @@ class FrontEndContext {
     enu_switch.reset();
   }
 
-  // An empty smoother (the orchestrator initialises it again).
+  // An empty smoother (the orchestrator initialises it again); it has no globals.
   void RestartSmoother() {
     std::destroy_at(&smoother);
     std::construct_at(&smoother, smoother_options_);
+    globals_.clear();
   }
+
+  // A global of the window (SlidingWindowSmoother::AddGlobal) that belongs to a sensor, `name`
+  // with its unit ("time_offset_s", "mount_yaw_rad"): created with its prior by the first front
+  // end that asks, the same index for every one asking after that (the IMU mount's corrections
+  // serve the non-holonomic and the kinematic factors), until the smoother restarts. Its
+  // estimate goes to the sensor's diagnostics (SensorCounters::globals) at RecordGlobals.
+  // correlation_time_s: a first-order Gauss-Markov process (AddGlobal).
+  int Global(const std::string& sensor_id, const std::string& name, double prior_sigma,
+             double max_abs, std::optional<double> correlation_time_s = std::nullopt);
+  std::optional<int> FindGlobal(const std::string& sensor_id, const std::string& name) const;
+  // A sensor frame's mount rotation correction (SlidingWindowSmoother::MountCorrection) as the
+  // globals "mount_pitch_rad", "mount_yaw_rad" (and "mount_roll_rad" with_roll) of the sensor,
+  // each with the prior N(0, prior_sigma_rad^2), held within +-max_rad.
+  SlidingWindowSmoother::MountCorrection MountGlobals(const std::string& sensor_id,
+                                                      double prior_sigma_rad, double max_rad,
+                                                      bool with_roll);
+  // The current estimate of a sensor's mount correction (roll, pitch, yaw; 0 where none).
+  Vec3 MountEstimate(const std::string& sensor_id) const;
+  // After every solve: each global's value, sigma and bound count into its sensor's
+  // diagnostics, with a history sample every kGlobalHistoryPeriodS.
+  void RecordGlobals();
 
   // The IMU noise the smoother and the output use from now on, and after a restart (the
   // measured one, imu_noise_monitor.hpp).
@@ -132,6 +155,7 @@ class FrontEndContext {
   Vec3 forward_imu_;
   LocalStart local_;
   ImuNoiseMonitor noise_monitor_;  // kept across restarts, as the noise it measured
+  std::map<std::pair<std::string, std::string>, int> globals_;  // (sensor, name) -> index
 };
 
 // How a front end answers for a measurement: not its kind, its kind from a sensor the setup does

@@ -105,8 +105,6 @@ void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
 }
 
 void GnssFrontEnd::OnRestart() {
-  time_offsets_.clear();  // the new smoother has none
-  error_states_.clear();
   accepted_.clear();
   refused_.Clear();
   alignment_.Clear();
@@ -271,43 +269,31 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   accepted_.push_back(a);
 }
 
-// Measurements anchored at states that left the window are final: compare their whitened
-// residual at the final estimate with the robust kernel's scale.
 std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
   if (!options_.gnss.estimate_time_offset) return std::nullopt;
-  auto it = time_offsets_.find(antenna_id);
-  if (it == time_offsets_.end()) {
-    const int index = ctx_.smoother.AddGlobal(
-        antenna_id, options_.gnss.time_offset_prior_sigma_s, options_.gnss.time_offset_max_s);
-    it = time_offsets_.emplace(antenna_id, index).first;
-  }
-  return it->second;
+  return ctx_.Global(antenna_id, kTimeOffsetGlobal, options_.gnss.time_offset_prior_sigma_s,
+                     options_.gnss.time_offset_max_s);
 }
 
 std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
   const MeasurementGateOptions& g = options_.gnss;
   if (!g.estimate_correlated_error) return std::nullopt;
-  auto it = error_states_.find(antenna_id);
-  if (it == error_states_.end()) {
-    std::array<int, 3> indices{};
-    const char* axes[] = {" error east", " error north", " error up"};
-    for (int k = 0; k < 3; ++k) {
-      const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
-      indices[k] = ctx_.smoother.AddGlobal(antenna_id + axes[k], sigma, 5.0 * sigma,
-                                           g.correlated_error_tau_s);
-    }
-    it = error_states_.emplace(antenna_id, indices).first;
+  std::array<int, 3> indices{};
+  for (int k = 0; k < 3; ++k) {
+    const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
+    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma,
+                             g.correlated_error_tau_s);
   }
-  return it->second;
+  return indices;
 }
 
 GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) const {
-  const auto it = error_states_.find(fix.header.sensor_id);
-  if (it == error_states_.end()) return fix;
+  if (!ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[0])) return fix;
   const auto globals = ctx_.smoother.Globals();
   GnssPositionEnu out = fix;
   for (int k = 0; k < 3; ++k) {
-    const SlidingWindowSmoother::GlobalEstimate& e = globals[it->second[k]];
+    const SlidingWindowSmoother::GlobalEstimate& e =
+        globals[*ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[k])];
     out.p_enu(k) -= e.value;
     out.covariance(k, k) += e.sigma * e.sigma;
   }
@@ -315,31 +301,13 @@ GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) cons
 }
 
 double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
-  const auto it = time_offsets_.find(antenna_id);
-  if (it == time_offsets_.end()) return 0.0;
-  return ctx_.smoother.Globals()[it->second].value;
+  const std::optional<int> index = ctx_.FindGlobal(antenna_id, kTimeOffsetGlobal);
+  return index ? ctx_.smoother.Globals()[*index].value : 0.0;
 }
 
-void GnssFrontEnd::RecordTimeOffsets() {
-  if (time_offsets_.empty()) return;
-  const TimeNs t = ctx_.smoother.NewestState().t_ns;
-  const auto estimates = ctx_.smoother.Globals();
-  for (const auto& [id, index] : time_offsets_) {
-    const SlidingWindowSmoother::GlobalEstimate& e = estimates[index];
-    std::optional<TimeOffsetDiagnostics>& d = ctx_.Counters(id).time_offset;
-    if (!d) d.emplace();
-    d->offset_s = e.value;
-    d->sigma_s = e.sigma;
-    d->clamped = e.num_clamped;
-    if (d->history.empty() ||
-        t - d->history.back().t_ns >= FromSeconds(kTimeOffsetHistoryPeriodS)) {
-      d->history.push_back({t, e.value, e.sigma});
-    }
-  }
-}
-
+// Measurements anchored at states that left the window are final: compare their whitened
+// residual at the final estimate with the robust kernel's scale.
 void GnssFrontEnd::OnMarginalized(std::span<const NavState> left) {
-  RecordTimeOffsets();
   if (left.empty()) return;
   const TimeNs t_window = ctx_.smoother.WindowStates().front().t_ns;
   while (!accepted_.empty() && accepted_.front().stamp_ns < t_window) {

@@ -14,7 +14,8 @@
 // With gnss.estimate_time_offset each antenna's fixes carry its time offset, a state of the
 // smoother (gnss_time_offset_factor.hpp), created on its first fix after initialisation (again
 // after a restart, from 0); the gate predicts the antenna at the stamp minus the offset estimate;
-// the estimate and its sigma go to the antenna's diagnostics (time_offset) after each solve.
+// the estimate and its sigma go to the antenna's diagnostics (globals: time_offset_s) after
+// each solve.
 // Accepted measurements are kept until they leave the window to count those the robust kernel
 // down-weighted at the final estimate.
 // While the estimate is in a local frame (a start before the GNSS could give the yaw:
@@ -89,15 +90,16 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   // In a local frame (FrontEndContext::local_frame): the fix aligns the local track with ENU.
   void AlignLocalFrame(const GnssPositionEnu& fix, const Vec3& p_imu_antenna);
   void AddVelocity(const PositionInput& in);
-  // The smoother's time offset of the antenna (created on its first fix) when
-  // gnss.estimate_time_offset; nullopt otherwise.
+  // The smoother's time offset of the antenna (a global created on its first fix, reported as
+  // the antenna's "time_offset_s") when gnss.estimate_time_offset; nullopt otherwise.
+  static constexpr const char* kTimeOffsetGlobal = "time_offset_s";
   std::optional<int> TimeOffsetOf(const std::string& antenna_id);
   // The antenna's current offset estimate (0 when not estimated).
   double TimeOffsetEstimate(const std::string& antenna_id) const;
-  // The estimates after a solve into the antennas' diagnostics.
-  void RecordTimeOffsets();
-  // The smoother's error states of the antenna (created on its first fix) when
+  // The smoother's error states of the antenna (globals created on its first fix, reported as
+  // the antenna's "error_east_m", "error_north_m", "error_up_m") when
   // gnss.estimate_correlated_error; nullopt otherwise.
+  static constexpr const char* kErrorGlobals[3] = {"error_east_m", "error_north_m", "error_up_m"};
   std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
   // The fix as the gate sees it: less the antenna's current error estimate, its covariance
   // plus the estimate's (unchanged when the error is not estimated).
@@ -122,8 +124,6 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   RefusedFixTrack refused_;
   EnuAlignment alignment_;  // while the estimate is in a local frame
   std::map<std::string, InnovationScale> covariance_scales_;  // by antenna (gnss.adapt_covariance)
-  std::map<std::string, int> time_offsets_;  // the smoother's index by antenna (since a restart)
-  std::map<std::string, std::array<int, 3>> error_states_;  // likewise, east, north, up
   bool heading_pitch_seen_ = false;
 };
 

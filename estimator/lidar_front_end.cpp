@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/so3.hpp"
 #include "core/stage_profile.hpp"
 #include "estimator/sqrt_information.hpp"
 
@@ -129,7 +130,7 @@ void LidarFrontEnd::ProcessWaitingScans() {
 // every 5 ms, interpolated on SE3), from the window or the IMU prediction (mean only).
 std::optional<LidarMotionPrior> LidarFrontEnd::MotionPrior(TimeNs t, TimeNs sweep_end_ns,
                                                            std::optional<SE3>* T_w_prev) const {
-  const SE3& X = plan_.lidars.front()->T_imu_sensor;
+  const SE3 X = ImuLidar();
   const std::vector<NavState> window = ctx_.smoother.WindowStates();
   const auto pose_at = [&](TimeNs t_ns) -> std::optional<SE3> {
     const auto x = ctx_.output.MeanAt(t_ns, window);
@@ -156,13 +157,27 @@ std::optional<LidarMotionPrior> LidarFrontEnd::MotionPrior(TimeNs t, TimeNs swee
 }
 
 std::optional<SE3> LidarFrontEnd::PredictedMotion(TimeNs from_ns, TimeNs to_ns) const {
-  const SE3& X = plan_.lidars.front()->T_imu_sensor;
+  const SE3 X = ImuLidar();
   const std::vector<NavState> window = ctx_.smoother.WindowStates();
   const auto from = ctx_.output.MeanAt(from_ns, window);
   const auto to = ctx_.output.MeanAt(to_ns, window);
   if (!from || !to) return std::nullopt;
   return (SE3(from->q_world_imu, from->p_world) * X).Inverse() *
          (SE3(to->q_world_imu, to->p_world) * X);
+}
+
+std::optional<SlidingWindowSmoother::MountCorrection> LidarFrontEnd::MountCorrection() {
+  const LidarFactorOptions& o = options_.lidar;
+  if (!o.estimate_mount) return std::nullopt;
+  return ctx_.MountGlobals(plan_.lidars.front()->id, o.mount_prior_sigma_deg * M_PI / 180.0,
+                           o.mount_max_deg * M_PI / 180.0, /*with_roll=*/true);
+}
+
+SE3 LidarFrontEnd::ImuLidar() const {
+  const EstimatorSensor& lidar = *plan_.lidars.front();
+  if (!options_.lidar.estimate_mount) return lidar.T_imu_sensor;
+  return SE3(lidar.T_imu_sensor.rotation() * so3::Exp<double>(ctx_.MountEstimate(lidar.id)),
+             lidar.T_imu_sensor.translation());
 }
 
 // The odometry's result for the scan and, for the gate, the estimator's prediction of the same
@@ -234,8 +249,8 @@ void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
   } catch (const InputError&) {
     return ctx_.Reject(id, t, RejectReason::kInvalidCovariance);
   }
-  if (ctx_.smoother.AddRelativePose(r.prev_stamp_ns, t, m, options_.lidar.kernel) ==
-      AddResult::kTooOld) {
+  if (ctx_.smoother.AddRelativePose(r.prev_stamp_ns, t, m, options_.lidar.kernel,
+                                    MountCorrection()) == AddResult::kTooOld) {
     return ctx_.Reject(id, t, RejectReason::kTooOld);
   }
   ctx_.Count(id, "registered");

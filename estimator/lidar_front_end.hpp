@@ -2,7 +2,9 @@
 // lidar's frame) wait until the IMU covers their sweep, are deskewed and predicted with the IMU
 // (poses every 5 ms over the sweep, from the window or the IMU-rate propagation), registered by
 // the lidar odometry, checked against the IMU prior, and become relative-pose factors between
-// consecutive scans with the odometry's covariance (scaled and floored).
+// consecutive scans with the odometry's covariance (scaled and floored). With
+// lidar.estimate_mount the lidar frame's rotation against the IMU is estimated as three globals
+// of the window (relative_pose_factor.hpp, MountAxes).
 //
 // With lidar.motion_prior: constant_velocity (or gyro) the odometry predicts with its own model
 // (and the raw gyro's rotation) instead and is shared (shared_lidar_odometry.hpp): every scan of the used lidars is registered, before
@@ -48,6 +50,10 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
                                    std::optional<SE3>* T_prev_curr_imu);
   // The lidar's motion between two stamps predicted by the estimator (nullopt if not held).
   std::optional<SE3> PredictedMotion(TimeNs from_ns, TimeNs to_ns) const;
+  // The (first) lidar's mount correction as globals of the window with lidar.estimate_mount,
+  // else none; and its X = T_imu_lidar turned by the current estimate.
+  std::optional<SlidingWindowSmoother::MountCorrection> MountCorrection();
+  SE3 ImuLidar() const;
 
   const EstimatorSensorSetup& setup_;
   const FactorPlan& plan_;

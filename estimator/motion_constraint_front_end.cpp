@@ -53,23 +53,18 @@ void MotionConstraintFrontEnd::AddNonHolonomic(const ImuSample& s) {
   const double lateral_sigma =
       nhc.lateral_sigma_mps + nhc.slip_per_lateral_accel * speed * speed * std::abs(yaw_rate);
   m.sqrt_information = Vec3(0.0, 1.0 / lateral_sigma, 1.0 / nhc.vertical_sigma_mps).asDiagonal();
-  if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{}, MountCorrection()) !=
+  if (ctx_.smoother.AddBodyVelocity(t, m, RobustKernel{},
+                                    ImuMountCorrection(nhc, imu_id_, ctx_)) !=
       AddResult::kTooOld) {
     ctx_.Count(imu_id_, "non_holonomic_factors");
   }
 }
 
-std::optional<SlidingWindowSmoother::MountCorrection> MotionConstraintFrontEnd::MountCorrection() {
-  const NonHolonomicOptions& nhc = options_.non_holonomic;
+std::optional<SlidingWindowSmoother::MountCorrection> ImuMountCorrection(
+    const NonHolonomicOptions& nhc, const std::string& imu_id, FrontEndContext& ctx) {
   if (!nhc.estimate_mount) return std::nullopt;
-  if (!mount_) {
-    const double sigma = nhc.mount_prior_sigma_deg * M_PI / 180.0;
-    const double bound = nhc.mount_max_deg * M_PI / 180.0;
-    mount_ = SlidingWindowSmoother::MountCorrection{
-        ctx_.smoother.AddGlobal(imu_id_ + " mount pitch", sigma, bound),
-        ctx_.smoother.AddGlobal(imu_id_ + " mount yaw", sigma, bound)};
-  }
-  return mount_;
+  return ctx.MountGlobals(imu_id, nhc.mount_prior_sigma_deg * M_PI / 180.0,
+                          nhc.mount_max_deg * M_PI / 180.0, /*with_roll=*/false);
 }
 
 // The IMU is quiet over the window and the speed encoder reads zero over it (without one, the

@@ -20,6 +20,12 @@
 
 namespace statebench::est {
 
+// With non_holonomic.estimate_mount: the IMU mount's pitch and yaw against the vehicle frame as
+// globals of the window (the IMU's "mount_pitch_rad", "mount_yaw_rad"), shared by the
+// non-holonomic constraint and the kinematic factor (both measure in that frame); else none.
+std::optional<SlidingWindowSmoother::MountCorrection> ImuMountCorrection(
+    const NonHolonomicOptions& nhc, const std::string& imu_id, FrontEndContext& ctx);
+
 class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
  public:
   // `plan`, `options`, `encoders` and `gnss` must outlive the front end.
@@ -30,12 +36,9 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   Claim Claims(const Measurement&) const override { return Claim::kOtherKind; }
   void Process(const Measurement&) override {}
   void OnImu(const ImuSample& s) override;
-  void OnRestart() override { mount_.reset(); }  // the new smoother has no globals
 
  private:
   void AddNonHolonomic(const ImuSample& s);
-  // The window's globals for the IMU mount's pitch and yaw (created on first use), or none.
-  std::optional<SlidingWindowSmoother::MountCorrection> MountCorrection();
   // The zero-velocity factor's sigma when the vehicle stands still, nullopt when it does not.
   std::optional<double> StandingStill(TimeNs t_ns) const;
 
@@ -48,7 +51,6 @@ class MotionConstraintFrontEnd final : public MeasurementFrontEnd {
   ImuStillWindow recent_imu_;  // released samples over the zero-velocity window
   TimeNs next_nhc_ns_ = INT64_MIN;
   TimeNs next_zupt_ns_ = INT64_MIN;
-  std::optional<SlidingWindowSmoother::MountCorrection> mount_;
 };
 
 }  // namespace statebench::est

@@ -52,6 +52,14 @@ struct LidarFactorOptions {
   // (per scan period) is rejected as an ICP failure.
   double max_prior_deviation_m = 1.0;
   LidarPriorSource motion_prior = LidarPriorSource::kImu;
+  // The lidar's mount rotation against the IMU (the setup's T_imu_lidar is measured by hand):
+  // roll, pitch and yaw of the lidar frame (R_imu_lidar Exp(c)) as three globals of the window,
+  // prior N(0, sigma^2), held within +-mount_max_deg; the factors' and the IMU prior's X is turned
+  // by them. Several lidars: the first one's frame (the merged scan's). Off: the setup's rotation
+  // is taken as exact. On by default (docs/calibration-states.md).
+  bool estimate_mount = true;
+  double mount_prior_sigma_deg = 1.0;
+  double mount_max_deg = 5.0;
 };
 
 // Kinematic factor (paper): the rear-axle speed V from the speed encoder and the front

@@ -14,6 +14,13 @@
 // Parameter blocks: q, p, v, bias of the anchor of t1 and of the anchor of t2 (8 blocks), or of
 // one anchor when both stamps follow the same state (4 blocks). Jacobians by automatic
 // differentiation.
+//
+// Mount correction (MountAxes): the setup's X is measured by hand, so its rotation may be turned
+// by a small c (rad, about the sensor frame's own axes): X(c) = (R_x Exp(c), t_x), the lever arm
+// as given. Then T_s1_s2 = X(c)^-1 T_imu1_imu2 X(c): the predicted rotation is conjugated by
+// Exp(c) and the translation turned by Exp(c)^T (plus the lever arm's share, which does not
+// depend on c). The estimated axes of c are scalar blocks after the states (roll, pitch, yaw in
+// that order, the others 0), globals of the window; Jacobians by automatic differentiation too.
 #pragma once
 
 #include <ceres/cost_function.h>
@@ -30,6 +37,15 @@ struct RelativePoseMeasurement {
   Mat6 sqrt_information = Mat6::Zero();  // (rho, phi) in the sensor frame
 };
 
+// Which axes of the mount correction c are estimated (each a scalar block after the states):
+// none, pitch and yaw (a vehicle frame whose roll nothing measures), or all three.
+struct MountAxes {
+  bool roll = false;
+  bool pitch = false;
+  bool yaw = false;
+  int count() const { return int{roll} + int{pitch} + int{yaw}; }
+};
+
 // S with S^T S = information for a symmetric positive semi-definite information matrix
 // (eigen-decomposition; negative eigenvalues from round-off are clipped to zero).
 Mat6 SqrtOfInformation(const Mat6& information);
@@ -43,13 +59,18 @@ SE3 PredictedSensorMotion(const SE3& T_w_imu1, const SE3& T_w_imu2, const SE3& T
 Vec6 RelativePoseResidual(const RelativePoseMeasurement& m, const SE3& T_w_imu1,
                           const SE3& T_w_imu2);
 
-// Anchors a (for t1) and b (for t2) distinct; to_t1 covers [t_a, t1], to_t2 [t_b, t2].
+// Anchors a (for t1) and b (for t2) distinct; to_t1 covers [t_a, t1], to_t2 [t_b, t2]. With
+// mount axes, their corrections are blocks 9.. (InputError for roll without pitch and yaw, or
+// one axis alone: combinations nothing uses).
 ceres::CostFunction* CreateRelativePoseFactor(const RelativePoseMeasurement& m,
                                               const ImuPreintegration& to_t1,
-                                              const ImuPreintegration& to_t2);
-// Both stamps after the same anchor: to_t1 covers [t_a, t1], to_t2 [t_a, t2].
+                                              const ImuPreintegration& to_t2,
+                                              const MountAxes& mount = {});
+// Both stamps after the same anchor: to_t1 covers [t_a, t1], to_t2 [t_a, t2]. Mount corrections
+// are blocks 5..
 ceres::CostFunction* CreateRelativePoseFactorOneAnchor(const RelativePoseMeasurement& m,
                                                        const ImuPreintegration& to_t1,
-                                                       const ImuPreintegration& to_t2);
+                                                       const ImuPreintegration& to_t2,
+                                                       const MountAxes& mount = {});
 
 }  // namespace statebench::est

@@ -222,11 +222,31 @@ struct SlidingWindowSmoother::Impl {
               options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
   }
 
+  // InputError unless the mount's indices are globals (pitch and yaw required; roll only where
+  // allowed).
+  void CheckMount(const SlidingWindowSmoother::MountCorrection& mount, const char* what,
+                  bool roll_allowed) const {
+    const auto known = [this](int i) { return i >= 0 && i < static_cast<int>(globals.size()); };
+    if (!known(mount.pitch) || !known(mount.yaw) ||
+        (mount.roll != -1 && (!roll_allowed || !known(mount.roll)))) {
+      throw InputError(std::string(what) + ": unknown mount correction index");
+    }
+  }
+  // The blocks of a mount correction's estimated axes (roll, pitch, yaw order), appended.
+  void AppendMountBlocks(const std::optional<SlidingWindowSmoother::MountCorrection>& mount,
+                         std::vector<double*>* blocks) const {
+    if (!mount) return;
+    for (int index : {mount->roll, mount->pitch, mount->yaw}) {
+      if (index >= 0) blocks->push_back(globals[index].value.get());
+    }
+  }
+
   struct RelativePose {
     TimeNs t1_ns;
     TimeNs t2_ns;
     RelativePoseMeasurement m;
     RobustKernel kernel;
+    std::optional<SlidingWindowSmoother::MountCorrection> mount;
   };
   void AttachRelativePose(Node& a, const RelativePose& r) {
     // The state after a, when it is not after t2, carries t2 (neighbouring states only).
@@ -237,19 +257,21 @@ struct SlidingWindowSmoother::Impl {
         break;
       }
     }
+    MountAxes axes;
+    if (r.mount) axes = {r.mount->roll >= 0, r.mount->pitch >= 0, r.mount->yaw >= 0};
     ceres::LossFunction* loss = r.kernel.MakeLossFunction().release();
-    if (b == nullptr) {
-      AddFactor(a, FactorKind::kRelativePose,
-                CreateRelativePoseFactorOneAnchor(r.m, Preintegrate(a, r.t1_ns),
-                                                  Preintegrate(a, r.t2_ns)),
-                loss, a.Blocks());
-      return;
-    }
     std::vector<double*> blocks = a.Blocks();
-    for (double* block : b->Blocks()) blocks.push_back(block);
-    AddFactor(a, FactorKind::kRelativePose,
-              CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns)),
-              loss, std::move(blocks));
+    ceres::CostFunction* cost = nullptr;
+    if (b == nullptr) {
+      cost = CreateRelativePoseFactorOneAnchor(r.m, Preintegrate(a, r.t1_ns),
+                                               Preintegrate(a, r.t2_ns), axes);
+    } else {
+      for (double* block : b->Blocks()) blocks.push_back(block);
+      cost = CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns),
+                                      axes);
+    }
+    AppendMountBlocks(r.mount, &blocks);
+    AddFactor(a, FactorKind::kRelativePose, cost, loss, std::move(blocks));
   }
 
   // Raw gyro at t_ns, linearly interpolated in the buffer (which covers the window).
@@ -265,14 +287,10 @@ struct SlidingWindowSmoother::Impl {
                       std::optional<SlidingWindowSmoother::MountCorrection> mount) {
     m.gyro_raw = GyroAt(t_ns);
     std::vector<double*> blocks{a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()};
-    ceres::CostFunction* cost = nullptr;
-    if (mount) {
-      blocks.push_back(globals[mount->pitch].value.get());
-      blocks.push_back(globals[mount->yaw].value.get());
-      cost = CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns));
-    } else {
-      cost = CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
-    }
+    AppendMountBlocks(mount, &blocks);  // pitch and yaw (no roll: CheckMount)
+    ceres::CostFunction* cost = mount
+                                    ? CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns))
+                                    : CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
     AddFactor(a, FactorKind::kVelocity, cost, kernel.MakeLossFunction().release(),
               std::move(blocks));
   }

@@ -126,14 +126,16 @@ AddResult SlidingWindowSmoother::AddDualAntenna(const DualAntennaHeading& headin
 
 AddResult SlidingWindowSmoother::AddRelativePose(TimeNs t1_ns, TimeNs t2_ns,
                                                  const RelativePoseMeasurement& m,
-                                                 const RobustKernel& kernel) {
+                                                 const RobustKernel& kernel,
+                                                 std::optional<MountCorrection> mount) {
   Impl& s = *impl_;
   if (!initialized())
     throw InputError("sliding window smoother: relative pose before initialization");
   if (t2_ns <= t1_ns) throw InputError("relative pose: t2 must be after t1");
   if (!m.sqrt_information.allFinite()) throw InputError("relative pose: non-finite information");
+  if (mount) s.CheckMount(*mount, "relative pose", /*roll_allowed=*/true);
   // Anchored at t1, waits for t2.
-  const Impl::RelativePose r{t1_ns, t2_ns, m, kernel};
+  const Impl::RelativePose r{t1_ns, t2_ns, m, kernel, mount};
   return s.Add({Impl::FactorKind::kRelativePose, t1_ns, t2_ns,
                 [&s, r](Impl::Node& a) { s.AttachRelativePose(a, r); }});
 }
@@ -147,10 +149,7 @@ AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocity
     throw InputError("body velocity: non-finite value");
   }
   if (mount) {
-    const auto known = [&s](int i) { return i >= 0 && i < static_cast<int>(s.globals.size()); };
-    if (!known(mount->pitch) || !known(mount->yaw)) {
-      throw InputError("body velocity: unknown mount correction index");
-    }
+    s.CheckMount(*mount, "body velocity", /*roll_allowed=*/false);
     if (m.frame != BodyVelocityMeasurement::Frame::kVehicle) {
       throw InputError("body velocity: a mount correction needs a vehicle-frame measurement");
     }

@@ -157,18 +157,24 @@ class SlidingWindowSmoother {
   // the state after a when it is at or before t2 (else from a too), so the factor links
   // neighbouring states only and marginalises like the IMU factor. Pending while t2 is newer
   // than the newest IMU sample; kTooOld if t1 is before the window. `kernel` may be kNone.
-  // InputError if t2 <= t1 or the information is not finite.
-  AddResult AddRelativePose(TimeNs t1_ns, TimeNs t2_ns, const RelativePoseMeasurement& m,
-                            const RobustKernel& kernel);
-  // Velocity of a vehicle point at t_ns (speed encoder, non-holonomic, zero velocity); the raw
-  // gyro at the stamp (m.gyro_raw) is filled in from the IMU buffer. Same pending rules.
-  // With mount (two indices AddGlobal gave: the vehicle frame's pitch and yaw corrections, rad)
-  // the measurement frame is turned by them (CreateMountCorrectedBodyVelocityFactor); InputError
-  // on an index it did not give or a world-frame measurement.
+  // With mount the sensor frame is turned by the corrections (relative_pose_factor.hpp, pitch and
+  // yaw, or roll too). InputError if t2 <= t1, the information is not finite, or on a mount
+  // index AddGlobal did not give (or pitch or yaw missing).
+  // A mount rotation correction c of a sensor frame, R_imu_sensor Exp(c) (rad, about the
+  // frame's own axes): the indices AddGlobal gave its estimated axes, -1 for an axis held at 0.
   struct MountCorrection {
+    int roll = -1;
     int pitch = -1;
     int yaw = -1;
   };
+  AddResult AddRelativePose(TimeNs t1_ns, TimeNs t2_ns, const RelativePoseMeasurement& m,
+                            const RobustKernel& kernel,
+                            std::optional<MountCorrection> mount = std::nullopt);
+  // Velocity of a vehicle point at t_ns (speed encoder, non-holonomic, zero velocity); the raw
+  // gyro at the stamp (m.gyro_raw) is filled in from the IMU buffer. Same pending rules.
+  // With mount (the vehicle frame's pitch and yaw corrections, rad, two indices AddGlobal gave;
+  // no roll) the measurement frame is turned by them (CreateMountCorrectedBodyVelocityFactor);
+  // InputError on an index it did not give, a roll, or a world-frame measurement.
   AddResult AddBodyVelocity(TimeNs t_ns, const BodyVelocityMeasurement& m,
                             const RobustKernel& kernel,
                             std::optional<MountCorrection> mount = std::nullopt);

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <memory>
 
+#include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/so3.hpp"
 #include "estimator/so3_manifold.hpp"
@@ -32,6 +34,31 @@ std::vector<std::vector<double>> RelativePoseBlocks(const NavState& s) {
 
 SE3 PoseOf(const NavState& s) { return SE3(s.q_world_imu, s.p_world); }
 
+NavState TrueStateWithBias(const HelixTrajectory& helix, TimeNs t, const ImuBias& bias) {
+  NavState s = helix.State(t);
+  s.gyro_bias = bias.gyro;
+  s.accel_bias = bias.accel;
+  return s;
+}
+
+// The blocks of the helix's states at the stamps, each perturbed by draws of r3 (a random Vec3).
+template <typename Draw>
+std::vector<std::vector<double>> PerturbedStateBlocks(const HelixTrajectory& helix,
+                                                      std::initializer_list<TimeNs> stamps,
+                                                      Draw& r3) {
+  std::vector<std::vector<double>> blocks;
+  for (TimeNs t : stamps) {
+    NavState x = helix.State(t);
+    x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
+    x.p_world += r3();
+    x.v_world += r3();
+    x.gyro_bias = 0.01 * r3();
+    x.accel_bias = 0.1 * r3();
+    for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
+  }
+  return blocks;
+}
+
 Vec6 Evaluate(const ceres::CostFunction& f, const std::vector<std::vector<double>>& blocks) {
   std::vector<const double*> ptrs;
   for (const auto& b : blocks) ptrs.push_back(b.data());
@@ -57,13 +84,9 @@ TEST(RelativePoseFactor, ZeroResidualAtTheTruthBetweenStates) {
   const std::unique_ptr<ceres::CostFunction> f(CreateRelativePoseFactor(
       m, ImuPreintegration::FromSamples(samples, t_a, t1, ImuNoise{}, lin),
       ImuPreintegration::FromSamples(samples, t_b, t2, ImuNoise{}, lin)));
-  NavState a = helix.State(t_a), b = helix.State(t_b);
-  for (NavState* s : {&a, &b}) {
-    s->gyro_bias = bias.gyro;
-    s->accel_bias = bias.accel;
-  }
+  const NavState a = TrueStateWithBias(helix, t_a, bias);
   auto blocks = RelativePoseBlocks(a);
-  for (auto& blk : RelativePoseBlocks(b)) blocks.push_back(blk);
+  for (auto& blk : RelativePoseBlocks(TrueStateWithBias(helix, t_b, bias))) blocks.push_back(blk);
   const Vec6 r = Evaluate(*f, blocks) / 100.0;
   std::printf("relative pose at the scan stamps: residual %.2e (m, rad)\n", r.norm());
   EXPECT_LT(r.norm(), 1e-6);
@@ -108,16 +131,7 @@ TEST(RelativePoseFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
       ImuPreintegration::FromSamples(samples, t_a, t2, ImuNoise{}, lin)));
   double worst = 0.0;
   for (int trial = 0; trial < 5; ++trial) {
-    std::vector<std::vector<double>> blocks;
-    for (TimeNs t : {t_a, t_b}) {
-      NavState x = helix.State(t);
-      x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-      x.p_world += r3();
-      x.v_world += r3();
-      x.gyro_bias = 0.01 * r3();
-      x.accel_bias = 0.1 * r3();
-      for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
-    }
+    const std::vector<std::vector<double>> blocks = PerturbedStateBlocks(helix, {t_a, t_b}, r3);
     const std::vector<const ceres::Manifold*> manifolds = {&q_manifold, nullptr, nullptr,
                                                            nullptr,     &q_manifold, nullptr,
                                                            nullptr,     nullptr};
@@ -133,6 +147,88 @@ TEST(RelativePoseFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
   }
   std::printf("relative pose factor: worst relative Jacobian error %.2e\n", worst);
   EXPECT_LT(worst, 1e-6);
+}
+
+// The sensor frame turned by a mount correction c (roll, pitch, yaw, or pitch and yaw): zero
+// residual at the truth when the setup's X is off by c (rotation only), a wrong one without the
+// correction, and Jacobians (the correction's scalar blocks too) against numeric differences.
+TEST(RelativePoseFactor, MountCorrectionTurnsTheSensorFrame) {
+  const HelixTrajectory helix;
+  const ImuBias bias{Vec3(0.003, -0.002, 0.001), Vec3(0.05, -0.04, 0.08)};
+  const auto samples = Samples(bias);
+  const TimeNs t_a = FromSeconds(1.2), t_b = FromSeconds(1.3);
+  const TimeNs t1 = FromSeconds(1.2437), t2 = FromSeconds(1.3437);
+  const Vec3 c(0.004, -0.003, 0.005);  // about 0.2-0.3 deg per axis
+  const SE3 true_mount(kImuLidar.rotation() * so3::Exp<double>(c), kImuLidar.translation());
+  RelativePoseMeasurement m;
+  m.T_imu_sensor = kImuLidar;  // what the setup says
+  m.T_s1_s2 = PredictedSensorMotion(PoseOf(helix.State(t1)), PoseOf(helix.State(t2)), true_mount);
+  m.sqrt_information = Mat6::Identity() * 100.0;
+  const auto to_t1 = ImuPreintegration::FromSamples(samples, t_a, t1, ImuNoise{}, bias);
+  const auto to_t2 = ImuPreintegration::FromSamples(samples, t_b, t2, ImuNoise{}, bias);
+  const NavState a = TrueStateWithBias(helix, t_a, bias);
+  auto blocks = RelativePoseBlocks(a);
+  for (auto& blk : RelativePoseBlocks(TrueStateWithBias(helix, t_b, bias))) blocks.push_back(blk);
+  const std::unique_ptr<ceres::CostFunction> plain(CreateRelativePoseFactor(m, to_t1, to_t2));
+  const std::unique_ptr<ceres::CostFunction> corrected(
+      CreateRelativePoseFactor(m, to_t1, to_t2, MountAxes{true, true, true}));
+  auto with_c = blocks;
+  for (int i = 0; i < 3; ++i) with_c.push_back({c[i]});
+  const double plain_error = (Evaluate(*plain, blocks) / 100.0).norm();
+  const double corrected_error = (Evaluate(*corrected, with_c) / 100.0).norm();
+  std::printf("mount off by 0.2-0.3 deg: residual %.2e without the correction, %.2e with it\n",
+              plain_error, corrected_error);
+  EXPECT_LT(corrected_error, 1e-6);
+  EXPECT_GT(plain_error, 1e-4);
+  // At c = 0 the corrected factor is the plain one.
+  auto zero_c = blocks;
+  for (int i = 0; i < 3; ++i) zero_c.push_back({0.0});
+  EXPECT_LT((Evaluate(*corrected, zero_c) - Evaluate(*plain, blocks)).norm(), 1e-9);
+
+  const RightQuaternionManifold q_manifold;
+  auto rng = MakeRng(45, "mount_corrected_relative_pose_jacobians");
+  NormalSampler normal;
+  const auto r3 = [&] { return Vec3(normal(rng), normal(rng), normal(rng)); };
+  double worst = 0.0;
+  for (const MountAxes axes : {MountAxes{true, true, true}, MountAxes{false, true, true}}) {
+    RelativePoseMeasurement n = m;
+    n.T_s1_s2 = SE3(so3::Exp<double>(0.05 * r3()), r3());
+    Mat6 A = Mat6::Random();
+    n.sqrt_information = SqrtOfInformation(A * A.transpose() + Mat6::Identity());
+    const std::unique_ptr<ceres::CostFunction> two(CreateRelativePoseFactor(n, to_t1, to_t2, axes));
+    const std::unique_ptr<ceres::CostFunction> one(CreateRelativePoseFactorOneAnchor(
+        n, to_t1, ImuPreintegration::FromSamples(samples, t_a, t2, ImuNoise{}, bias), axes));
+    for (int trial = 0; trial < 4; ++trial) {
+      const std::vector<std::vector<double>> states = PerturbedStateBlocks(helix, {t_a, t_b}, r3);
+      std::vector<std::vector<double>> corrections;
+      for (int i = 0; i < axes.count(); ++i) corrections.push_back({0.05 * normal(rng)});
+      std::vector<std::vector<double>> all = states, first(states.begin(), states.begin() + 4);
+      all.insert(all.end(), corrections.begin(), corrections.end());
+      first.insert(first.end(), corrections.begin(), corrections.end());
+      std::vector<const ceres::Manifold*> manifolds = {&q_manifold, nullptr, nullptr, nullptr,
+                                                       &q_manifold, nullptr, nullptr, nullptr};
+      std::vector<const ceres::Manifold*> first_manifolds = {&q_manifold, nullptr, nullptr,
+                                                             nullptr};
+      for (int i = 0; i < axes.count(); ++i) {
+        manifolds.push_back(nullptr);
+        first_manifolds.push_back(nullptr);
+      }
+      worst = std::max(worst, testing::CheckJacobians(*two, all, manifolds, 1e-6)
+                                  .worst_relative_error);
+      const auto check_one = testing::CheckJacobians(*one, first, first_manifolds, 1e-6);
+      // One anchor: the position cancels out (its Jacobian is zero, the numeric one round-off).
+      for (std::size_t k = 0; k < check_one.block_relative_error.size(); ++k) {
+        if (k != 1) worst = std::max(worst, check_one.block_relative_error[k]);
+      }
+    }
+  }
+  std::printf("mount-corrected relative pose factor: worst relative Jacobian error %.2e\n", worst);
+  EXPECT_LT(worst, 1e-6);
+  // Roll alone or yaw alone: no such correction.
+  EXPECT_THROW(CreateRelativePoseFactor(m, to_t1, to_t2, MountAxes{false, false, true}),
+               InputError);
+  EXPECT_THROW(CreateRelativePoseFactor(m, to_t1, to_t2, MountAxes{true, false, true}),
+               InputError);
 }
 
 TEST(RelativePoseFactor, SqrtOfInformationHandlesRankDeficientInformation) {
