@@ -35,6 +35,20 @@ FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptio
     throw InputError(where + "lidar.enabled is true but the setup has no lidar");
   }
   if (o.lidar.use == FactorUse::kOff) plan.lidars.clear();
+  // The Ceres solver's batch store holds no globals of the window (sliding_window_smoother.hpp):
+  // say so before the log is read, not at the first scan.
+  if (o.solver == WindowSolver::kCeres && o.batch) {
+    const bool globals = (o.lidar.estimate_mount && !plan.lidars.empty()) ||
+                         (o.non_holonomic.enabled && o.non_holonomic.estimate_mount) ||
+                         o.gnss.estimate_time_offset || o.gnss.estimate_correlated_error;
+    if (globals) {
+      throw InputError(where +
+                       "solver: ceres with batch: true cannot estimate mounts, time offsets or "
+                       "GNSS errors (lidar.estimate_mount, non_holonomic.estimate_mount, "
+                       "gnss.estimate_time_offset, gnss.estimate_correlated_error): set them "
+                       "false or use solver: chain");
+    }
+  }
   const bool has_encoders = plan.speed != nullptr && plan.steering != nullptr;
   if (o.kinematic.use == FactorUse::kOn && !has_encoders) {
     throw InputError(where + "kinematic.enabled is true but the setup lacks a " +

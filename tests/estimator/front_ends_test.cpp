@@ -4,6 +4,7 @@
 // threshold, and the body-velocity front end's refusal before the first state.
 #include <gtest/gtest.h>
 
+#include "core/error.hpp"
 #include "core/yaml_node.hpp"
 #include "estimator/body_velocity_front_end.hpp"
 #include "estimator/encoder_front_end.hpp"
@@ -145,6 +146,23 @@ TEST(FrontEnds, BeforeTheFirstStateMeasurementsFeedTheInitialiserOrAreCounted) {
   EncoderFrontEnd no_kinematic(f.setup, off, f.options, f.ctx);
   no_kinematic.Process(At<SteeringAngle>("steering", FromSeconds(1.1)));
   EXPECT_EQ(Rejected(f.ctx, "steering", RejectReason::kDisabled), 1u);
+}
+
+// The Ceres solver's batch store has no window globals: a configuration asking for both is
+// refused before anything runs, naming the options; without the lidar's mount it plans.
+TEST(FrontEnds, TheCeresBatchRefusesWindowGlobalsUpFront) {
+  Fixture f;
+  f.options.solver = WindowSolver::kCeres;
+  f.options.batch = true;
+  ASSERT_TRUE(f.options.lidar.estimate_mount);  // the default
+  try {
+    PlanFactors(f.setup, f.options);
+    FAIL() << "planned";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lidar.estimate_mount"), std::string::npos) << e.what();
+  }
+  f.options.lidar.estimate_mount = false;
+  EXPECT_NO_THROW(PlanFactors(f.setup, f.options));
 }
 
 // A creeping wheel (0.04 m/s, a tick of 1.66 mm every 41 ms) reads zero in most 20 ms samples:
