@@ -36,18 +36,6 @@ Vec3 Evaluate(const ceres::CostFunction& f, const NavState& s) {
   return r;
 }
 
-// The helix state at t_a moved off by random draws (r3: a standard normal 3-vector), where the
-// Jacobian tests linearise.
-template <typename Draw>
-NavState PerturbedHelixState(const HelixTrajectory& helix, TimeNs t_a, Draw& r3) {
-  NavState x = helix.State(t_a);
-  x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-  x.v_world += r3();
-  x.gyro_bias = 0.01 * r3();
-  x.accel_bias = 0.1 * r3();
-  return x;
-}
-
 // The velocity of a point 1.2 m behind and 0.4 m below the IMU, in a frame yawed 0.3 rad,
 // measured 43 ms after the state: zero residual at the truth (biased gyro, bias known).
 TEST(BodyVelocityFactor, ZeroResidualAtTheTruth) {
@@ -138,7 +126,7 @@ TEST(BodyVelocityFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
           m, ImuPreintegration::FromSamples(samples, t_a, t_a + FromSeconds(tau), ImuNoise{},
                                             ImuBias{Vec3(0.001, 0.0, 0.0), Vec3(0.0, 0.02, 0.0)})));
       for (int trial = 0; trial < 5; ++trial) {
-        const NavState x = PerturbedHelixState(helix, t_a, r3);
+        const NavState x = testing::PerturbedState(helix.State(t_a), r3);
         const auto check =
             testing::CheckJacobians(*f, Blocks(x), {&q_manifold, nullptr, nullptr}, 1e-6);
         worst = std::max(worst, check.worst_relative_error);
@@ -202,7 +190,7 @@ TEST(BodyVelocityFactor, MountCorrectionTurnsTheVehicleFrame) {
         n, ImuPreintegration::FromSamples(samples, t_a, t_a + FromSeconds(tau), ImuNoise{},
                                           ImuBias{Vec3(0.001, 0.0, 0.0), Vec3(0.0, 0.02, 0.0)})));
     for (int trial = 0; trial < 5; ++trial) {
-      auto b = Blocks(PerturbedHelixState(helix, t_a, r3));
+      auto b = Blocks(testing::PerturbedState(helix.State(t_a), r3));
       b.push_back({0.05 * normal(rng)});
       b.push_back({0.05 * normal(rng)});
       const auto check = testing::CheckJacobians(

@@ -119,12 +119,7 @@ TEST(GnssPropagatedPositionFactor, JacobiansMatchNumericDifferencesOnTheManifold
         ImuPreintegration::FromSamples(samples, t_i, t_i + FromSeconds(tau), ImuNoise{}, bias_lin),
         s.q_world_imu);
     for (int trial = 0; trial < 5; ++trial) {
-      NavState x = s;
-      x.q_world_imu = s.q_world_imu * so3::Exp<double>(0.1 * r3());
-      x.p_world += r3();
-      x.v_world += r3();
-      x.gyro_bias = 0.01 * r3();
-      x.accel_bias = 0.1 * r3();
+      const NavState x = testing::PerturbedState(s, r3);
       const auto check =
           testing::CheckJacobians(factor, Blocks(x), {&so3_manifold, nullptr, nullptr, nullptr},
                                   1e-6, trial == 0 ? "gnss propagated" : "");

@@ -67,6 +67,19 @@ class HelixTrajectory {
   NavState State(TimeNs t_ns) const { return StateOf(*this, t_ns); }
 };
 
+// x moved off by draws of r3 (a standard normal Vec3), where the factors' Jacobian tests
+// linearise: rotation by 0.1 rad (right), position and velocity by 1 m and 1 m/s, the gyro and
+// accelerometer biases drawn at 0.01 rad/s and 0.1 m/s^2.
+template <typename Draw>
+NavState PerturbedState(NavState x, Draw& r3) {
+  x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
+  x.p_world += r3();
+  x.v_world += r3();
+  x.gyro_bias = 0.01 * r3();
+  x.accel_bias = 0.1 * r3();
+  return x;
+}
+
 // 100 Hz samples of the helix over [0, 3] s, with a constant sensor bias (gyro, accel) added.
 inline std::vector<ImuSample> HelixSamples(const Vec3& gyro_bias = Vec3::Zero(),
                                            const Vec3& accel_bias = Vec3::Zero()) {

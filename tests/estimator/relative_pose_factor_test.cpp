@@ -48,13 +48,9 @@ std::vector<std::vector<double>> PerturbedStateBlocks(const HelixTrajectory& hel
                                                       Draw& r3) {
   std::vector<std::vector<double>> blocks;
   for (TimeNs t : stamps) {
-    NavState x = helix.State(t);
-    x.q_world_imu = x.q_world_imu * so3::Exp<double>(0.1 * r3());
-    x.p_world += r3();
-    x.v_world += r3();
-    x.gyro_bias = 0.01 * r3();
-    x.accel_bias = 0.1 * r3();
-    for (auto& b : RelativePoseBlocks(x)) blocks.push_back(b);
+    for (auto& b : RelativePoseBlocks(testing::PerturbedState(helix.State(t), r3))) {
+      blocks.push_back(b);
+    }
   }
   return blocks;
 }
