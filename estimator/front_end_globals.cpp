@@ -44,11 +44,9 @@ SlidingWindowSmoother::MountCorrection FrontEndContext::MountGlobals(const std::
 
 Vec3 FrontEndContext::MountEstimate(const std::string& sensor_id) const {
   Vec3 c = Vec3::Zero();
-  if (globals_.empty()) return c;
-  const std::vector<SlidingWindowSmoother::GlobalEstimate> estimates = smoother.Globals();
   for (int axis = 0; axis < 3; ++axis) {
     if (const std::optional<int> i = FindGlobal(sensor_id, kMountAxisGlobals[axis])) {
-      c[axis] = estimates[*i].value;
+      c[axis] = smoother.Global(*i).value;
     }
   }
   return c;

@@ -288,12 +288,11 @@ std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& 
 }
 
 GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) const {
-  if (!ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[0])) return fix;
-  const auto globals = ctx_.smoother.Globals();
   GnssPositionEnu out = fix;
   for (int k = 0; k < 3; ++k) {
-    const SlidingWindowSmoother::GlobalEstimate& e =
-        globals[*ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[k])];
+    const std::optional<int> index = ctx_.FindGlobal(fix.header.sensor_id, kErrorGlobals[k]);
+    if (!index) return fix;  // not estimated (all three are created together)
+    const SlidingWindowSmoother::GlobalEstimate e = ctx_.smoother.Global(*index);
     out.p_enu(k) -= e.value;
     out.covariance(k, k) += e.sigma * e.sigma;
   }
@@ -302,7 +301,7 @@ GnssPositionEnu GnssFrontEnd::LessErrorEstimate(const GnssPositionEnu& fix) cons
 
 double GnssFrontEnd::TimeOffsetEstimate(const std::string& antenna_id) const {
   const std::optional<int> index = ctx_.FindGlobal(antenna_id, kTimeOffsetGlobal);
-  return index ? ctx_.smoother.Globals()[*index].value : 0.0;
+  return index ? ctx_.smoother.Global(*index).value : 0.0;
 }
 
 // Measurements anchored at states that left the window are final: compare their whitened

@@ -55,10 +55,18 @@ int SlidingWindowSmoother::AddGlobal(const std::string& name, double prior_sigma
 
 std::vector<SlidingWindowSmoother::GlobalEstimate> SlidingWindowSmoother::Globals() const {
   std::vector<GlobalEstimate> out;
-  for (const Impl::Global& g : impl_->globals) {
-    out.push_back({g.name, *g.value, g.sigma, g.num_clamped});
+  for (std::size_t i = 0; i < impl_->globals.size(); ++i) {
+    out.push_back(Global(static_cast<int>(i)));
   }
   return out;
+}
+
+SlidingWindowSmoother::GlobalEstimate SlidingWindowSmoother::Global(int index) const {
+  if (!impl_->KnownGlobal(index)) {
+    throw InputError("sliding window smoother: unknown global index");
+  }
+  const Impl::Global& g = impl_->globals[static_cast<std::size_t>(index)];
+  return {g.name, *g.value, g.sigma, g.num_clamped};
 }
 
 Mat15 SlidingWindowSmoother::Impl::UpdateGlobals(const ChainSystem* system) {

@@ -129,6 +129,9 @@ struct SlidingWindowSmoother::Impl {
   };
   std::vector<Global> globals;
 
+  bool KnownGlobal(int index) const {
+    return index >= 0 && index < static_cast<int>(globals.size());
+  }
   std::vector<double*> GlobalBlocks() const {
     std::vector<double*> out;
     for (const Global& g : globals) out.push_back(g.value.get());
@@ -226,9 +229,8 @@ struct SlidingWindowSmoother::Impl {
   // allowed).
   void CheckMount(const SlidingWindowSmoother::MountCorrection& mount, const char* what,
                   bool roll_allowed) const {
-    const auto known = [this](int i) { return i >= 0 && i < static_cast<int>(globals.size()); };
-    if (!known(mount.pitch) || !known(mount.yaw) ||
-        (mount.roll != -1 && (!roll_allowed || !known(mount.roll)))) {
+    if (!KnownGlobal(mount.pitch) || !KnownGlobal(mount.yaw) ||
+        (mount.roll != -1 && (!roll_allowed || !KnownGlobal(mount.roll)))) {
       throw InputError(std::string(what) + ": unknown mount correction index");
     }
   }

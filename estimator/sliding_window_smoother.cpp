@@ -97,11 +97,11 @@ AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3&
   if (!initialized()) throw InputError("sliding window smoother: gnss fix before initialization");
   SqrtInformation<3>(fix.covariance, "gnss fix '" + fix.header.sensor_id + "'");  // validates
   if (!p_imu_antenna.allFinite()) throw InputError("gnss fix: non-finite lever arm");
-  const auto known = [&m](int i) { return i >= 0 && i < static_cast<int>(m.globals.size()); };
-  if (time_offset && !known(*time_offset)) {
+  if (time_offset && !m.KnownGlobal(*time_offset)) {
     throw InputError("gnss fix: unknown time offset index");
   }
-  if (error && !(known((*error)[0]) && known((*error)[1]) && known((*error)[2]))) {
+  if (error && !(m.KnownGlobal((*error)[0]) && m.KnownGlobal((*error)[1]) &&
+                 m.KnownGlobal((*error)[2]))) {
     throw InputError("gnss fix: unknown error state index");
   }
   const TimeNs t = fix.header.stamp_ns;

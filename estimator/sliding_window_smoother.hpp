@@ -147,6 +147,9 @@ class SlidingWindowSmoother {
   };
   // In the order AddGlobal gave their indices.
   std::vector<GlobalEstimate> Globals() const;
+  // The one AddGlobal gave `index` (what the front ends read per measurement). InputError on an
+  // index it did not give.
+  GlobalEstimate Global(int index) const;
   // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
   // measurement DualAntennaFactor refuses.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,
