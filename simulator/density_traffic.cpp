@@ -1,8 +1,7 @@
 #include "simulator/density_traffic.hpp"
 
-#include <libsumo/libsumo.h>
-
 #include "core/random.hpp"
+#include "simulator/sumo_api.hpp"
 #include "simulator/traffic_demand.hpp"
 
 namespace statebench::sim {
@@ -40,15 +39,15 @@ bool DensityTraffic::Add(bool initial) {
     const std::string from = pick();
     const std::string to = pick();
     if (from == to || (initial && avoid_at_start_.count(from) > 0)) continue;
-    std::vector<std::string> edges = libsumo::Simulation::findRoute(from, to, type.id).edges;
+    std::vector<std::string> edges = Sumo().FindRoute(from, to, type.id);
     if (edges.empty()) continue;
     route = std::move(edges);
     if (static_cast<int>(route.size()) >= kMinRouteEdges) break;
   }
   if (route.empty()) return false;  // no connected pair found; the next step tries again
   const std::string id = "density" + std::to_string(next_id_++);
-  libsumo::Route::add(id, route);
-  libsumo::Vehicle::add(id, id, type.id, "now", "best", "random_free", "max");
+  Sumo().AddRoute(id, route);
+  Sumo().AddVehicle(id, id, type.id, "now", "best", "random_free", "max");
   alive_.insert(id);
   return true;
 }

@@ -1,7 +1,5 @@
 #include "simulator/sumo_run.hpp"
 
-#include <libsumo/libsumo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -13,14 +11,13 @@
 #include "core/so3.hpp"
 #include "simulator/density_traffic.hpp"
 #include "simulator/routes_file.hpp"
+#include "simulator/sumo_api.hpp"
 #include "simulator/sumo_tools.hpp"
 
 namespace statebench::sim {
 namespace {
 
 namespace fs = std::filesystem;
-using libsumo::Simulation;
-
 constexpr double kDegToRad = M_PI / 180.0;
 
 std::mutex& SumoMutex() {
@@ -28,8 +25,9 @@ std::mutex& SumoMutex() {
   return mutex;
 }
 
-// libsumo sets std::cout and std::cerr to fixed notation with 2 digits when it loads; the
-// caller's streams get their formatting back when the run ends.
+// libsumo sets std::cout and std::cerr to fixed notation with 2 digits when it loads (the
+// first Sumo() call, sumo_api.hpp); the caller's streams get their formatting back when the run
+// ends.
 class StreamFormatGuard {
  public:
   explicit StreamFormatGuard(std::ostream& stream)
@@ -51,16 +49,18 @@ class StreamFormatGuard {
 struct SessionCloser {
   ~SessionCloser() {
     try {
-      Simulation::close();
+      Sumo().Close();
     } catch (...) {
     }
   }
 };
 
-std::vector<Vec3> ToPoints(const libsumo::TraCIPositionVector& shape) {
+Vec3 ToPoint(const SumoPosition& p) { return Vec3(p[0], p[1], p[2]); }
+
+std::vector<Vec3> ToPoints(const std::vector<SumoPosition>& shape) {
   std::vector<Vec3> points;
-  points.reserve(shape.value.size());
-  for (const auto& p : shape.value) points.emplace_back(p.x, p.y, p.z);
+  points.reserve(shape.size());
+  for (const SumoPosition& p : shape) points.push_back(ToPoint(p));
   return points;
 }
 
@@ -94,19 +94,19 @@ std::vector<std::string> SumoArguments(const Scenario& scenario, const BuiltNetw
 }
 
 void ReadNetworkGeometry(SumoResult* result) {
-  for (const std::string& id : libsumo::Lane::getIDList()) {
+  for (const std::string& id : Sumo().LaneIds()) {
     LaneGeometry lane;
     lane.id = id;
-    lane.edge_id = libsumo::Lane::getEdgeID(id);
+    lane.edge_id = Sumo().LaneEdge(id);
     lane.internal = !id.empty() && id.front() == ':';
-    lane.width_m = libsumo::Lane::getWidth(id);
-    lane.length_m = libsumo::Lane::getLength(id);
-    lane.shape = ToPoints(libsumo::Lane::getShape(id));
+    lane.width_m = Sumo().LaneWidth(id);
+    lane.length_m = Sumo().LaneLength(id);
+    lane.shape = ToPoints(Sumo().LaneShape(id));
     result->lanes.push_back(std::move(lane));
   }
-  for (const std::string& id : libsumo::Junction::getIDList()) {
+  for (const std::string& id : Sumo().JunctionIds()) {
     if (!id.empty() && id.front() == ':') continue;  // internal waiting points, no outline
-    result->junctions.push_back({id, ToPoints(libsumo::Junction::getShape(id))});
+    result->junctions.push_back({id, ToPoints(Sumo().JunctionShape(id))});
   }
 }
 
@@ -122,25 +122,24 @@ class Recorder {
     const std::string& ego = kEgoId;
     EgoSample s;
     s.t_s = t_s;
-    s.lane_id = libsumo::Vehicle::getLaneID(ego);
+    s.lane_id = Sumo().VehicleLane(ego);
     AdvancePath(s.lane_id, t_s);
     s.driven_lane = result_->driven_path.lanes().size() - 1;
-    s.lane_pos_m = libsumo::Vehicle::getLanePosition(ego);
+    s.lane_pos_m = Sumo().VehicleLanePosition(ego);
     const DrivenLane& lane = result_->driven_path.lanes().back();
     s.s_m = lane.ArcLength(s.lane_pos_m);
-    s.v_mps = libsumo::Vehicle::getSpeed(ego);
+    s.v_mps = Sumo().VehicleSpeed(ego);
     s.ds_dt_mps = s.v_mps * (lane.s_end_m - lane.s_begin_m) / lane.lane_length_m;
-    s.a_mps2 = libsumo::Vehicle::getAcceleration(ego);
-    const auto p = libsumo::Vehicle::getPosition3D(ego);
-    s.p_world_front = Vec3(p.x, p.y, p.z);
-    s.yaw_rad = YawFromSumoAngle(libsumo::Vehicle::getAngle(ego));
-    s.slope_rad = libsumo::Vehicle::getSlope(ego) * kDegToRad;
-    const auto tls = libsumo::Vehicle::getNextTLS(ego);
+    s.a_mps2 = Sumo().VehicleAcceleration(ego);
+    s.p_world_front = ToPoint(Sumo().VehiclePosition3D(ego));
+    s.yaw_rad = YawFromSumoAngle(Sumo().VehicleAngle(ego));
+    s.slope_rad = Sumo().VehicleSlope(ego) * kDegToRad;
+    const auto tls = Sumo().VehicleNextTls(ego);
     if (!tls.empty()) {
       s.tls_state = tls.front().state;
-      s.tls_distance_m = tls.front().dist;
+      s.tls_distance_m = tls.front().distance_m;
     }
-    const auto leader = libsumo::Vehicle::getLeader(ego, 100.0);
+    const auto leader = Sumo().VehicleLeader(ego, 100.0);
     if (!leader.first.empty()) s.leader_gap_m = leader.second;
     return s;
   }
@@ -148,7 +147,7 @@ class Recorder {
   TrafficFrame Traffic(double t_s) {
     TrafficFrame frame;
     frame.t_s = t_s;
-    for (const std::string& id : libsumo::Vehicle::getIDList()) {
+    for (const std::string& id : Sumo().VehicleIds()) {
       if (id == kEgoId) continue;
       frame.boxes.push_back(Box(id));
     }
@@ -160,32 +159,32 @@ class Recorder {
   // centre is L/2 back along the body x axis and H/2 up along the body z axis, with
   // R = Rz(yaw) Ry(pitch), pitch = -slope.
   TrafficBox Box(const std::string& id) {
-    const Vec3& dims = TypeDimensions(libsumo::Vehicle::getTypeID(id));
+    const Vec3& dims = TypeDimensions(Sumo().VehicleType(id));
     TrafficBox box;
     box.id = id;
     box.length_m = dims.x();
     box.width_m = dims.y();
     box.height_m = dims.z();
-    box.yaw_rad = YawFromSumoAngle(libsumo::Vehicle::getAngle(id));
-    const double slope = libsumo::Vehicle::getSlope(id) * kDegToRad;
+    box.yaw_rad = YawFromSumoAngle(Sumo().VehicleAngle(id));
+    const double slope = Sumo().VehicleSlope(id) * kDegToRad;
     box.pitch_rad = -slope;
-    const auto p = libsumo::Vehicle::getPosition3D(id);
+    const Vec3 p = ToPoint(Sumo().VehiclePosition3D(id));
     const double cy = std::cos(box.yaw_rad), sy = std::sin(box.yaw_rad);
     const double cs = std::cos(slope), ss = std::sin(slope);
     const Vec3 forward(cy * cs, sy * cs, ss);
     const Vec3 up(-cy * ss, -sy * ss, cs);
     box.p_world_center =
-        Vec3(p.x, p.y, p.z) - 0.5 * box.length_m * forward + 0.5 * box.height_m * up;
-    box.v_mps = libsumo::Vehicle::getSpeed(id);
+        p - 0.5 * box.length_m * forward + 0.5 * box.height_m * up;
+    box.v_mps = Sumo().VehicleSpeed(id);
     return box;
   }
 
   const Vec3& TypeDimensions(const std::string& type_id) {
     auto it = type_dims_.find(type_id);
     if (it == type_dims_.end()) {
-      const Vec3 dims(libsumo::VehicleType::getLength(type_id),
-                      libsumo::VehicleType::getWidth(type_id),
-                      libsumo::VehicleType::getHeight(type_id));
+      const Vec3 dims(Sumo().TypeLength(type_id),
+                      Sumo().TypeWidth(type_id),
+                      Sumo().TypeHeight(type_id));
       it = type_dims_.emplace(type_id, dims).first;
     }
     return it->second;
@@ -195,9 +194,9 @@ class Recorder {
     auto it = successors_.find(lane);
     if (it == successors_.end()) {
       std::vector<std::string> next;
-      for (const auto& link : libsumo::Lane::getLinks(lane)) {
-        next.push_back(link.approachedInternal.empty() ? link.approachedLane
-                                                       : link.approachedInternal);
+      for (const SumoLaneLink& link : Sumo().LaneLinks(lane)) {
+        next.push_back(link.approached_internal.empty() ? link.approached_lane
+                                                        : link.approached_internal);
       }
       it = successors_.emplace(lane, std::move(next)).first;
     }
@@ -245,7 +244,7 @@ class Recorder {
 void LoadOrFail(const Scenario& scenario, const BuiltNetwork& built,
                 const SumoRunOptions& options) {
   try {
-    Simulation::load(SumoArguments(scenario, built, options));
+    Sumo().Load(SumoArguments(scenario, built, options));
   } catch (const std::exception& e) {
     throw InputError(scenario.file.string() + ": SUMO could not load " + built.net_file.string() +
                      " with " + built.routes_file.string() + ": " + e.what());
@@ -277,26 +276,26 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
   bool parked = scenario.ego.parked_s > 0.0;  // ego.parked_s: held at 0 m/s until then
   try {
     for (long k = 0; k <= last_step; ++k) {
-      Simulation::step();
+      Sumo().Step();
       const double t_s = static_cast<double>(k) * dt;
-      const std::vector<std::string> arrived = Simulation::getArrivedIDList();
+      const std::vector<std::string> arrived = Sumo().ArrivedIds();
       if (Contains(arrived, kEgoId)) {
         result.ego_arrived = k <= last_recorded;
         break;
       }
       if (k == 0) {
-        if (!Contains(Simulation::getDepartedIDList(), kEgoId)) {
+        if (!Contains(Sumo().DepartedIds(), kEgoId)) {
           scenario.ego.source.Fail("the ego could not depart at t = 0 on edge '" + ego_start_edge +
                                    "' (departure position blocked?)");
         }
-        libsumo::Vehicle::setLaneChangeMode(kEgoId, 0);  // no lane changes of any kind
-        if (parked) libsumo::Vehicle::setSpeed(kEgoId, 0.0);
+        Sumo().SetLaneChangeMode(kEgoId, 0);  // no lane changes of any kind
+        if (parked) Sumo().SetSpeed(kEgoId, 0.0);
       }
       if (parked && t_s >= scenario.ego.parked_s - 1e-9) {
-        libsumo::Vehicle::setSpeed(kEgoId, -1.0);  // the driver model moves it from the next step
+        Sumo().SetSpeed(kEgoId, -1.0);  // the driver model moves it from the next step
         parked = false;
       }
-      if (Contains(Simulation::getStartingTeleportIDList(), kEgoId)) {
+      if (Contains(Sumo().StartingTeleportIds(), kEgoId)) {
         scenario.ego.source.Fail("the ego got stuck at t = " + FormatNumber(t_s) +
                                  " s and SUMO teleported it (lane changes are disabled: can its "
                                  "route be driven in one lane?)");
@@ -311,7 +310,9 @@ SumoResult RunSumo(const Scenario& scenario, const BuiltNetwork& built,
       recorder.EgoState(t_s);
       if (result.driven_path.length_m() - result.ego.back().s_m >= options.lookahead_m) break;
     }
-  } catch (const libsumo::TraCIException& e) {
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {  // libsumo::TraCIException
     throw std::runtime_error(std::string("SUMO failed during the run: ") + e.what());
   }
   return result;
