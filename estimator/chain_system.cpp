@@ -2,18 +2,17 @@
 
 #include "estimator/bordered_chain.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace statebench::est {
 namespace {
 
 using Mat30 = Eigen::Matrix<double, 30, 30>;
 using Vec30 = Eigen::Matrix<double, 30, 1>;
-using ChainJacobian = Eigen::Matrix<double, Eigen::Dynamic, 30>;  // columns contiguous
 using ChainAmbient = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 constexpr std::array<int, 4> kChainTangentOffset{0, 3, 6, 9};
@@ -47,11 +46,20 @@ struct ChainCorrector {
   }
 };
 
+// One parameter block of a factor in the pair's 30-dim tangent: where its columns start, how
+// many, and its tangent Jacobian (m x size, column-major, in the scratch).
+struct ChainTangentBlock {
+  int offset = 0;
+  int size = 0;
+  double* J = nullptr;
+};
+
 // Scratch reused from factor to factor: buffers grow to the largest factor and stay, so a
 // linearisation allocates a few times, not per factor.
 struct ChainScratch {
   std::vector<double> r_buffer, ambient_buffer, J_buffer;
   std::vector<double*> ambient_ptrs;
+  std::vector<ChainTangentBlock> blocks;
   Eigen::MatrixXd J_global;  // m x G, the factor's columns of the globals
 };
 
@@ -70,6 +78,54 @@ int ChainGlobalSlot(std::span<double* const> globals, const double* block) {
 }
 
 using ChainAmbientMap = Eigen::Map<const ChainAmbient>;
+using ChainTangentMap = Eigen::Map<Eigen::MatrixXd>;
+
+// f(std::integral_constant<int, size>) for a tangent block's size (3, or 6 for the biases).
+template <typename F>
+void WithTangentSize(int size, F&& f) {
+  if (size == 3) {
+    f(std::integral_constant<int, 3>{});
+  } else {
+    f(std::integral_constant<int, 6>{});
+  }
+}
+
+// The factor's J^T J (blocks on and below the diagonal) and J^T r into the pair system, block
+// pair by block pair: fixed-size products over the factor's M residuals (Eigen::Dynamic for the
+// sizes not listed in AccumulateChainFactor).
+template <int M>
+void AccumulateChainBlocks(const std::vector<ChainTangentBlock>& blocks, const double* r_data,
+                           int m, Mat30& H, Vec30& g) {
+  const Eigen::Map<const Eigen::Matrix<double, M, 1>> r(r_data, m);
+  for (const ChainTangentBlock& a : blocks) {
+    WithTangentSize(a.size, [&](auto ta) {
+      constexpr int Ta = decltype(ta)::value;
+      const Eigen::Map<const Eigen::Matrix<double, M, Ta>> Ja(a.J, m, Ta);
+      g.segment<Ta>(a.offset).noalias() += Ja.transpose().lazyProduct(r);
+      for (const ChainTangentBlock& b : blocks) {
+        if (b.offset > a.offset) continue;  // the block above the diagonal: its transpose
+        WithTangentSize(b.size, [&](auto tb) {
+          constexpr int Tb = decltype(tb)::value;
+          const Eigen::Map<const Eigen::Matrix<double, M, Tb>> Jb(b.J, m, Tb);
+          H.block<Ta, Tb>(a.offset, b.offset).noalias() += Ja.transpose().lazyProduct(Jb);
+        });
+      }
+    });
+  }
+}
+
+void AccumulateChainFactor(const std::vector<ChainTangentBlock>& blocks, const double* r, int m,
+                           Mat30& H, Vec30& g) {
+  switch (m) {  // the factors' residual sizes
+    case 1: return AccumulateChainBlocks<1>(blocks, r, m, H, g);
+    case 2: return AccumulateChainBlocks<2>(blocks, r, m, H, g);
+    case 3: return AccumulateChainBlocks<3>(blocks, r, m, H, g);
+    case 6: return AccumulateChainBlocks<6>(blocks, r, m, H, g);
+    case 9: return AccumulateChainBlocks<9>(blocks, r, m, H, g);
+    case 15: return AccumulateChainBlocks<15>(blocks, r, m, H, g);
+    default: return AccumulateChainBlocks<Eigen::Dynamic>(blocks, r, m, H, g);
+  }
+}
 
 // Adds one factor's J^T J (lower triangle) and J^T r to the pair system (anchor, next); its cost
 // to *cost.
@@ -93,10 +149,10 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
   Eigen::Map<Eigen::VectorXd> r(s.r_buffer.data(), m);
   if (!f.cost->Evaluate(f.blocks.data(), r.data(), s.ambient_ptrs.data())) return false;
 
-  Eigen::Map<ChainJacobian> J(s.J_buffer.data(), m, 30);
-  J.setZero();
-  std::array<bool, 30> touched{};  // columns the factor's blocks fill (the rest stay zero)
+  // Each block's tangent Jacobian (the rotation's through the manifold's PlusJacobian).
+  s.blocks.clear();
   bool touches_global = false;
+  int tangent_used = 0;
   for (std::size_t b = 0; b < sizes.size(); ++b) {
     const int slot = ChainSlot(anchor, next, f.blocks[b]);
     if (slot < 0) {
@@ -107,17 +163,20 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
       s.J_global.col(column) += ChainAmbientMap(s.ambient_ptrs[b], m, 1);
       continue;
     }
-    const int offset = kChainTangentOffset[slot % 4] + 15 * (slot / 4);
     const int size = kChainTangentSize[slot % 4];
+    const ChainTangentBlock block{kChainTangentOffset[slot % 4] + 15 * (slot / 4), size,
+                                  s.J_buffer.data() + m * tangent_used};
+    tangent_used += size;
+    ChainTangentMap T(block.J, m, size);
     const ChainAmbientMap ambient(s.ambient_ptrs[b], m, sizes[b]);
     if (slot % 4 == 0) {
       Eigen::Matrix<double, 4, 3, Eigen::RowMajor> plus;
       rotation.PlusJacobian(f.blocks[b], plus.data());
-      J.middleCols(offset, 3) += ambient.lazyProduct(plus);
+      T.noalias() = ambient.lazyProduct(plus);
     } else {
-      J.middleCols(offset, size) += ambient;
+      T = ambient;
     }
-    std::fill_n(touched.begin() + offset, size, true);
+    s.blocks.push_back(block);
   }
   const double sq_norm = r.squaredNorm();
   if (f.loss == nullptr) {
@@ -127,36 +186,28 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
     f.loss->Evaluate(sq_norm, rho);
     *cost += 0.5 * rho[0];
     const ChainCorrector c(sq_norm, rho);
-    if (c.alpha_sq_norm != 0.0) {
-      const Eigen::RowVectorXd rtJ = r.transpose() * J;
-      J -= c.alpha_sq_norm * r * rtJ;
-      if (touches_global) {
+    for (const ChainTangentBlock& block : s.blocks) {
+      ChainTangentMap T(block.J, m, block.size);
+      if (c.alpha_sq_norm != 0.0) {
+        const Eigen::RowVectorXd rtT = r.transpose() * T;
+        T -= c.alpha_sq_norm * r * rtT;
+      }
+      T *= c.sqrt_rho1;
+    }
+    if (touches_global) {
+      if (c.alpha_sq_norm != 0.0) {
         const Eigen::RowVectorXd rtJg = r.transpose() * s.J_global;
         s.J_global -= c.alpha_sq_norm * r * rtJg;
       }
+      s.J_global *= c.sqrt_rho1;
     }
-    J *= c.sqrt_rho1;
-    if (touches_global) s.J_global *= c.sqrt_rho1;
     r *= c.residual_scaling;
   }
-  // Column dot products over the columns the factor touches (contiguous, vectorised). A column
-  // it does not touch is zero: its products would add +-0 to H and g, which changes nothing.
-  std::array<int, 30> columns{};
-  int count = 0;
-  for (int c = 0; c < 30; ++c) {
-    if (touched[c]) columns[count++] = c;
-  }
-  for (int a = 0; a < count; ++a) {
-    const int j = columns[a];
-    for (int b = a; b < count; ++b) {
-      const int i = columns[b];
-      H(i, j) += J.col(i).dot(J.col(j));
-    }
-    g(j) += J.col(j).dot(r);
-  }
+  AccumulateChainFactor(s.blocks, r.data(), m, H, g);
   if (touches_global) {
-    for (int a = 0; a < count; ++a) {
-      border.C.row(columns[a]) += J.col(columns[a]).transpose() * s.J_global;
+    for (const ChainTangentBlock& block : s.blocks) {
+      border.C.middleRows(block.offset, block.size) +=
+          ChainTangentMap(block.J, m, block.size).transpose() * s.J_global;
     }
     border.E.noalias() += s.J_global.transpose() * s.J_global;
     border.g.noalias() += s.J_global.transpose() * r;
@@ -164,22 +215,55 @@ bool AddChainFactor(const FactorRecord& f, const ChainState& anchor, const Chain
   return true;
 }
 
+// S - V^T V, the product's lower triangle from column dot products and its upper one mirrored
+// (V^T V is symmetric; about half the products of the dense one).
+Mat15 MinusGram(const Mat15& S, const Mat15& V) {
+  Mat15 out = S;
+  for (int j = 0; j < 15; ++j) {
+    for (int i = j; i < 15; ++i) {
+      const double d = V.col(i).dot(V.col(j));
+      out(i, j) -= d;
+      if (i != j) out(j, i) -= d;
+    }
+  }
+  return out;
+}
+
+// Whether the Cholesky factor of S is usable for eliminating S: factored, and no pivot below
+// 1e-10 of S's largest diagonal entry (SchurComplement's test).
+bool ChainFactorUsable(const SmallCholesky<15>& llt, const Mat15& S) {
+  return llt.ok() &&
+         llt.L().diagonal().array().square().minCoeff() > 1e-10 * S.diagonal().maxCoeff();
+}
+
+// The eigen pseudo-inverse of a nearly singular S (SchurComplement's fallback).
+Mat15 ChainPseudoInverse(const Mat15& S) {
+  const Eigen::SelfAdjointEigenSolver<Mat15> eig(S);
+  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
+  const Vec15 inv_values =
+      eig.eigenvalues().unaryExpr([&](double l) { return l > threshold ? 1.0 / l : 0.0; });
+  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose();
+}
+
 // S^-1 * rhs for a block being eliminated, as SchurComplement inverts H_mm.
 template <int Cols>
 Eigen::Matrix<double, 15, Cols> ChainEliminate(const Mat15& S_in,
                                                const Eigen::Matrix<double, 15, Cols>& rhs) {
   const Mat15 S = 0.5 * (S_in + S_in.transpose());
-  const Eigen::LLT<Mat15> llt(S);
-  if (llt.info() == Eigen::Success &&
-      Mat15(llt.matrixL()).diagonal().array().square().minCoeff() >
-          1e-10 * S.diagonal().maxCoeff()) {
-    return llt.solve(rhs);
-  }
-  const Eigen::SelfAdjointEigenSolver<Mat15> eig(S);
-  const double threshold = 1e-12 * std::max(eig.eigenvalues().maxCoeff(), 0.0);
-  const Vec15 inv_values =
-      eig.eigenvalues().unaryExpr([&](double l) { return l > threshold ? 1.0 / l : 0.0; });
-  return eig.eigenvectors() * inv_values.asDiagonal() * eig.eigenvectors().transpose() * rhs;
+  const SmallCholesky<15> llt(S);
+  if (ChainFactorUsable(llt, S)) return llt.Solve(rhs);
+  return ChainPseudoInverse(S) * rhs;
+}
+
+// S_next - B^T S^-1 B, symmetrised: the Schur complement that eliminating S leaves on the next
+// block (with the Cholesky factor, (L^-1 B)^T (L^-1 B)).
+Mat15 ChainSchurStep(const Mat15& S_in, const Mat15& B, const Mat15& D_next) {
+  const Mat15 S = 0.5 * (S_in + S_in.transpose());
+  const SmallCholesky<15> llt(S);
+  if (ChainFactorUsable(llt, S)) return MinusGram(D_next, llt.SolveLower(B));
+  Mat15 out = D_next;
+  out.noalias() -= B.transpose().lazyProduct(ChainPseudoInverse(S) * B);
+  return 0.5 * (out + out.transpose());
 }
 
 }  // namespace
@@ -235,6 +319,10 @@ bool LinearizeChain(const std::vector<ChainState>& chain, const ceres::Manifold&
       border.C.setZero();
     }
     H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
+    if (k == 0 && next != nullptr) {
+      system->first_pair_H = H;
+      system->first_pair_g = g;
+    }
     system->D[k] += H.topLeftCorner<15, 15>();
     system->g[k] += g.head<15>();
     if (next != nullptr) {
@@ -255,12 +343,10 @@ bool FactorChain(const ChainSystem& system, const std::vector<Vec15>& damping,
   f->L.resize(n);
   f->V.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    Mat15 S = system.D[k];
-    if (k > 0) S.noalias() -= f->V[k - 1].transpose().lazyProduct(f->V[k - 1]);
+    Mat15 S = k > 0 ? MinusGram(system.D[k], f->V[k - 1]) : system.D[k];
     S.diagonal() += damping[k];
-    f->L[k].compute(S);
-    if (f->L[k].info() != Eigen::Success) return false;
-    if (k + 1 < n) f->V[k] = f->L[k].matrixL().solve(system.B[k]);
+    if (!f->L[k].Compute(S)) return false;
+    if (k + 1 < n) f->V[k] = f->L[k].SolveLower(system.B[k]);
   }
   return true;
 }
@@ -273,13 +359,13 @@ void SolveFactoredChain(const ChainFactorization& f, const std::vector<Vec15>& r
   for (std::size_t k = 0; k < n; ++k) {
     Vec15 y = rhs[k];
     if (k > 0) y.noalias() -= f.V[k - 1].transpose() * u[k - 1];
-    u[k] = f.L[k].matrixL().solve(y);
+    u[k] = f.L[k].SolveLower(y);
   }
   x->resize(n);
   for (std::size_t k = n; k-- > 0;) {
     Vec15 w = u[k];
     if (k + 1 < n) w.noalias() -= f.V[k] * (*x)[k + 1];
-    (*x)[k] = f.L[k].matrixU().solve(w);
+    (*x)[k] = f.L[k].SolveUpper(w);
   }
 }
 
@@ -302,9 +388,7 @@ Mat15 NewestMarginalInformation(const ChainSystem& system) {
   if (system.num_globals() > 0) return MarginalsOfBorderedChain(system).newest_information;
   Mat15 S = system.D.front();
   for (std::size_t k = 0; k + 1 < system.D.size(); ++k) {
-    const Mat15 X = ChainEliminate<15>(S, system.B[k]);
-    S = system.D[k + 1] - system.B[k].transpose().lazyProduct(X);
-    S = 0.5 * (S + S.transpose());
+    S = ChainSchurStep(S, system.B[k], system.D[k + 1]);
   }
   return S;
 }

@@ -26,10 +26,9 @@
 #include <span>
 #include <vector>
 
-#include <Eigen/Cholesky>
-
 #include "core/eigen_types.hpp"
 #include "estimator/linear_system.hpp"
+#include "estimator/small_cholesky.hpp"
 
 namespace statebench::est {
 
@@ -45,6 +44,11 @@ struct ChainSystem {
   std::vector<Mat15> B;  // B[k] couples state k (rows) with state k+1 (columns); N-1 of them
   std::vector<Vec15> g;
   double cost = 0.0;     // 1/2 sum rho(|r|^2), as ceres::Problem::Evaluate gives it
+  // What the oldest state's own factors add (30 dims: state 0's tangent, then state 1's), when
+  // the chain has two states or more: the system that marginalising state 0 eliminates
+  // (SlidingWindowSmoother: no relinearisation of those factors at the same values).
+  Eigen::Matrix<double, 30, 30> first_pair_H = Eigen::Matrix<double, 30, 30>::Zero();
+  Eigen::Matrix<double, 30, 1> first_pair_g = Eigen::Matrix<double, 30, 1>::Zero();
   // The border (empty without globals): C[k] couples state k (rows) with the globals.
   std::vector<Eigen::Matrix<double, 15, Eigen::Dynamic>> C;
   Eigen::MatrixXd E;
@@ -70,7 +74,7 @@ bool SolveChain(const ChainSystem& system, const std::vector<Vec15>& damping,
 // The Cholesky factors of SolveChain's forward elimination, reusable for several right-hand
 // sides: S_k = L_k L_k^T = D_k + diag(damping_k) - V_{k-1}^T V_{k-1}, V_k = L_k^-1 B_k.
 struct ChainFactorization {
-  std::vector<Eigen::LLT<Mat15>> L;
+  std::vector<SmallCholesky<15>> L;
   std::vector<Mat15> V;
 };
 bool FactorChain(const ChainSystem& system, const std::vector<Vec15>& damping,

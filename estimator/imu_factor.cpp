@@ -66,52 +66,43 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   Eigen::Map<Vec9>{residuals} = sqrt_information_ * r;
   if (jacobians == nullptr) return true;
 
+  // Each Jacobian is S J with J made of 3x3 blocks, many zero: S J = sum over J's nonzero row
+  // blocks b of S's column block b times J_b (lazy fixed-size products, no GEMM).
+  const Mat9& S = sqrt_information_;
+  const auto S_R = S.middleCols<3>(kPreintRotation);
+  const auto S_v = S.middleCols<3>(kPreintVelocity);
+  const auto S_p = S.middleCols<3>(kPreintPosition);
   const Vec3 r_R = r.segment<3>(kPreintRotation);
   const Mat3 Jr_inv = so3::RightJacobianInverse(r_R);
   if (jacobians[0] != nullptr) {  // q_i
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintRotation, 0) = -Jr_inv * (q_j.conjugate() * q_i).toRotationMatrix();
-    J.block<3, 3>(kPreintVelocity, 0) = so3::Hat<double>(v_rel);
-    J.block<3, 3>(kPreintPosition, 0) = so3::Hat<double>(p_rel);
-    Eigen::Map<RowMajor9x4>{jacobians[0]} =
-        sqrt_information_ * J * QuaternionMinusJacobian(parameters[0]);
+    const Mat3 J_R = -Jr_inv * (q_j.conjugate() * q_i).toRotationMatrix();
+    const RowMajor9x3 SJ = S_R.lazyProduct(J_R) + S_v.lazyProduct(so3::Hat<double>(v_rel)) +
+                           S_p.lazyProduct(so3::Hat<double>(p_rel));
+    Eigen::Map<RowMajor9x4>{jacobians[0]} = SJ.lazyProduct(QuaternionMinusJacobian(parameters[0]));
   }
   if (jacobians[1] != nullptr) {  // p_i
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintPosition, 0) = -Ri_T;
-    Eigen::Map<RowMajor9x3>{jacobians[1]} = sqrt_information_ * J;
+    Eigen::Map<RowMajor9x3>{jacobians[1]} = -S_p.lazyProduct(Ri_T);
   }
   if (jacobians[2] != nullptr) {  // v_i
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintVelocity, 0) = -Ri_T;
-    J.block<3, 3>(kPreintPosition, 0) = -Ri_T * dt;
-    Eigen::Map<RowMajor9x3>{jacobians[2]} = sqrt_information_ * J;
+    Eigen::Map<RowMajor9x3>{jacobians[2]} = -(S_v + dt * S_p).lazyProduct(Ri_T);
   }
   if (jacobians[3] != nullptr) {  // bias_i
-    RowMajor9x6 J = RowMajor9x6::Zero();
-    J.block<3, 3>(kPreintRotation, 0) =
+    const Mat3 J_R_bg =
         -Jr_inv * so3::ExpMatrix<double>(-r_R) * so3::RightJacobian(phi_bg) * pim.d_R_d_bg();
-    J.block<3, 3>(kPreintVelocity, 0) = -pim.d_v_d_bg();
-    J.block<3, 3>(kPreintVelocity, 3) = -pim.d_v_d_ba();
-    J.block<3, 3>(kPreintPosition, 0) = -pim.d_p_d_bg();
-    J.block<3, 3>(kPreintPosition, 3) = -pim.d_p_d_ba();
-    Eigen::Map<RowMajor9x6>{jacobians[3]} = sqrt_information_ * J;
+    Eigen::Map<RowMajor9x6> J{jacobians[3]};
+    J.leftCols<3>() = S_R.lazyProduct(J_R_bg) - S_v.lazyProduct(pim.d_v_d_bg()) -
+                      S_p.lazyProduct(pim.d_p_d_bg());
+    J.rightCols<3>() = -S_v.lazyProduct(pim.d_v_d_ba()) - S_p.lazyProduct(pim.d_p_d_ba());
   }
   if (jacobians[4] != nullptr) {  // q_j
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintRotation, 0) = Jr_inv;
-    Eigen::Map<RowMajor9x4>{jacobians[4]} =
-        sqrt_information_ * J * QuaternionMinusJacobian(parameters[4]);
+    const RowMajor9x3 SJ = S_R.lazyProduct(Jr_inv);
+    Eigen::Map<RowMajor9x4>{jacobians[4]} = SJ.lazyProduct(QuaternionMinusJacobian(parameters[4]));
   }
   if (jacobians[5] != nullptr) {  // p_j
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintPosition, 0) = Ri_T;
-    Eigen::Map<RowMajor9x3>{jacobians[5]} = sqrt_information_ * J;
+    Eigen::Map<RowMajor9x3>{jacobians[5]} = S_p.lazyProduct(Ri_T);
   }
   if (jacobians[6] != nullptr) {  // v_j
-    RowMajor9x3 J = RowMajor9x3::Zero();
-    J.block<3, 3>(kPreintVelocity, 0) = Ri_T;
-    Eigen::Map<RowMajor9x3>{jacobians[6]} = sqrt_information_ * J;
+    Eigen::Map<RowMajor9x3>{jacobians[6]} = S_v.lazyProduct(Ri_T);
   }
   return true;
 }

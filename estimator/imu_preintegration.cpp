@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/so3.hpp"
+#include "estimator/mat3_blocks.hpp"
 
 namespace statebench::est {
 namespace {
@@ -230,20 +231,24 @@ void ImuPreintegration::Advance(std::size_t j, TimeNs t_ns) {
   d_v_d_ba_ -= B_a_v;
   d_R_d_bg_ = dR_step_T * d_R_d_bg_ - phi_1_n;
 
-  // Covariance.
-  Mat9 A = Mat9::Identity();
-  A.block<3, 3>(kPreintRotation, kPreintRotation) = dR_step_T;
-  A.block<3, 3>(kPreintVelocity, kPreintRotation) = A_v_phi;
-  A.block<3, 3>(kPreintPosition, kPreintRotation) = A_p_phi;
-  A.block<3, 3>(kPreintPosition, kPreintVelocity) = h * Mat3::Identity();
-  Eigen::Matrix<double, 9, 3> B_g;
-  B_g << phi_1_n, B_g_v, B_g_p;
-  Eigen::Matrix<double, 9, 3> B_a;
-  B_a << Mat3::Zero(), B_a_v, B_a_p;
+  // Covariance (3x3 blocks: rotation 0, velocity 1, position 2; kPreint*).
+  Mat3Blocks<3, 3> A;
+  A.SetGeneral(0, 0, dR_step_T);
+  A.SetGeneral(1, 0, A_v_phi);
+  A.SetIdentity(1, 1);
+  A.SetGeneral(2, 0, A_p_phi);
+  A.SetScaledIdentity(2, 1, h);
+  A.SetIdentity(2, 2);
+  Mat3Blocks<3, 1> B_g;
+  B_g.SetGeneral(0, 0, phi_1_n);
+  B_g.SetGeneral(1, 0, B_g_v);
+  B_g.SetGeneral(2, 0, B_g_p);
+  Mat3Blocks<3, 1> B_a;
+  B_a.SetGeneral(1, 0, B_a_v);
+  B_a.SetGeneral(2, 0, B_a_p);
   const double var_g = noise_.gyro_noise_density * noise_.gyro_noise_density / h;
   const double var_a = noise_.accel_noise_density * noise_.accel_noise_density / h;
-  covariance_ = A * covariance_ * A.transpose() + var_g * B_g * B_g.transpose() +
-                var_a * B_a * B_a.transpose();
+  covariance_ = A.Congruence(covariance_) + B_g.ScaledGram(var_g) + B_a.ScaledGram(var_a);
   covariance_.block<3, 3>(kPreintPosition, kPreintPosition).diagonal().array() +=
       noise_.integration_density * noise_.integration_density * h;
 

@@ -362,15 +362,21 @@ struct SlidingWindowSmoother::Impl {
               std::move(blocks));
   }
 
-  void MarginalizeOldest() {
+  // `linearized`: the old state's factors already linearised at the current values (the chain
+  // solve's final system, chain_system.hpp), else they are linearised here.
+  void MarginalizeOldest(const LinearSystem* linearized = nullptr) {
     Node& old = *states[0];
     Node& next = *states[1];
-    const BlockLayout layout = Layout({&old, &next});
-    std::vector<const FactorRecord*> records;
-    for (const Factor& f : old.factors) records.push_back(&f.record);
     LinearSystem system;
-    Linearize(records, layout, &system);
-    num_left_out += system.num_skipped;
+    if (linearized != nullptr) {
+      system = *linearized;
+    } else {
+      const BlockLayout layout = Layout({&old, &next});
+      std::vector<const FactorRecord*> records;
+      for (const Factor& f : old.factors) records.push_back(&f.record);
+      Linearize(records, layout, &system);
+      num_left_out += system.num_skipped;
+    }
     LinearSystem kept = SchurComplement(system, 15);
     CarryGaussMarkovGlobals(ToSeconds(next.t_ns - old.t_ns), &kept);
 

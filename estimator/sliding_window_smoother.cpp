@@ -205,6 +205,9 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   SmootherSolveSummary out;
   if (!initialized()) return out;
   std::optional<Mat15> newest_information;
+  // The oldest state's factors as the solve's final linearisation left them (chain solver, no
+  // globals): the first state to leave needs no linearisation of its own.
+  std::optional<LinearSystem> oldest_linearized;
   if (m.options.solver == WindowSolver::kCeres) {
     SolveWindowWithCeres(m.problem, m.options, &out);
     if (!m.globals.empty() && out.usable) newest_information = m.UpdateGlobals(nullptr);
@@ -223,6 +226,10 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
     if (chain.has_system) {
       newest_information = m.globals.empty() ? NewestMarginalInformation(chain.system)
                                              : m.UpdateGlobals(&chain.system);
+      if (m.globals.empty() && m.states.size() > 1 && chain.system.first_pair_H.allFinite() &&
+          chain.system.first_pair_g.allFinite()) {
+        oldest_linearized = LinearSystem{chain.system.first_pair_H, chain.system.first_pair_g};
+      }
     }
   }
   for (const auto& n : m.states) {
@@ -252,7 +259,8 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
       m.lagged_states.push_back(m.states.front()->State());
       m.lagged_covariances.push_back(marginals[static_cast<std::size_t>(out.num_marginalized)]);
     }
-    m.MarginalizeOldest();
+    m.MarginalizeOldest(out.num_marginalized == 0 && oldest_linearized ? &*oldest_linearized
+                                                                        : nullptr);
     ++out.num_marginalized;
     out.num_marginalized_unusable += out.usable ? 0 : 1;
   }
