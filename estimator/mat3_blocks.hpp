@@ -63,14 +63,34 @@ class Mat3Blocks {
         if (!any) M[i][j].setZero();
       }
     }
-    // C = M F^T, lower blocks.
+    return TimesTransposed(M, /*skip_zero_left=*/false);
+  }
+
+  // s F F^T (a congruence of s I), exactly symmetric.
+  RowSquare ScaledGram(double s) const {
+    std::array<std::array<Mat3, Cols>, Rows> M;
+    for (int i = 0; i < Rows; ++i) {
+      for (int j = 0; j < Cols; ++j) M[i][j] = Block(i, j);
+    }
+    return s * TimesTransposed(M, /*skip_zero_left=*/true);
+  }
+
+ private:
+  enum class Kind : std::uint8_t { kZero, kScaledIdentity, kGeneral };
+
+  // C = M F^T for M of F's block shape, lower blocks (the upper ones mirrored). With
+  // skip_zero_left, M's blocks where F has a zero block are taken as zero (M = F).
+  RowSquare TimesTransposed(const std::array<std::array<Mat3, Cols>, Rows>& M,
+                            bool skip_zero_left) const {
     RowSquare C;
     for (int a = 0; a < Rows; ++a) {
       for (int b = 0; b <= a; ++b) {
         Mat3 C_ab;
         bool any = false;
         for (int j = 0; j < Cols; ++j) {
-          if (kind_[b][j] == Kind::kZero) continue;
+          if (kind_[b][j] == Kind::kZero || (skip_zero_left && kind_[a][j] == Kind::kZero)) {
+            continue;
+          }
           Accumulate(&C_ab, TimesTransposed(M[a][j], b, j), &any);
         }
         SetSymmetricBlock(&C, a, b, any ? C_ab : Mat3::Zero());
@@ -78,26 +98,6 @@ class Mat3Blocks {
     }
     return C;
   }
-
-  // s F F^T (a congruence of s I), exactly symmetric.
-  RowSquare ScaledGram(double s) const {
-    RowSquare C;
-    for (int a = 0; a < Rows; ++a) {
-      for (int b = 0; b <= a; ++b) {
-        Mat3 C_ab;
-        bool any = false;
-        for (int j = 0; j < Cols; ++j) {
-          if (kind_[a][j] == Kind::kZero || kind_[b][j] == Kind::kZero) continue;
-          Accumulate(&C_ab, TimesTransposed(Block(a, j), b, j), &any);
-        }
-        SetSymmetricBlock(&C, a, b, any ? Mat3(s * C_ab) : Mat3::Zero());
-      }
-    }
-    return C;
-  }
-
- private:
-  enum class Kind : std::uint8_t { kZero, kScaledIdentity, kGeneral };
 
   // Block (a, b) of C and, above the diagonal, its transpose; a diagonal block symmetrised.
   static void SetSymmetricBlock(RowSquare* C, int a, int b, const Mat3& block) {
@@ -119,6 +119,7 @@ class Mat3Blocks {
   }
 
   Mat3 Block(int i, int j) const {
+    if (kind_[i][j] == Kind::kZero) return Mat3::Zero();
     return kind_[i][j] == Kind::kGeneral ? block_[i][j] : Mat3(scale_[i][j] * Mat3::Identity());
   }
 
