@@ -264,6 +264,7 @@ std::optional<StateInitializer::Anchor> StateInitializer::MovingAnchor(
   x.v_world = world_b - q_a * body_b;
   anchor.sigma_v_fix =
       std::sqrt(a->fix.covariance.trace() + b.fix.covariance.trace()) / ToSeconds(t_b - t_a);
+  FitMovingAnchor(*a, yaw, &anchor);
   return anchor;
 }
 

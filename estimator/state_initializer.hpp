@@ -168,6 +168,8 @@ class StateInitializer {
   Vec3 ImuVelocityFromFix(const Fix& f, const Quat& q_world_imu, const Vec3& gyro_bias) const;
   std::optional<Anchor> StaticAnchor(const YawReference& yaw, TimeNs t0_ns) const;
   std::optional<Anchor> MovingAnchor(const YawReference& yaw) const;
+  // The moving anchor at fix a refined over every fix since a (state_initializer_moving_fit.cpp).
+  void FitMovingAnchor(const Fix& a, const YawReference& yaw, Anchor* anchor) const;
   ImuPreintegration Preintegrate(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;
   // Rotation from the IMU frame at to_ns to the one at from_ns (either order).
   Quat GyroDelta(TimeNs from_ns, TimeNs to_ns, const Vec3& gyro_bias) const;
