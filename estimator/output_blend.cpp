@@ -18,9 +18,14 @@ void OutputBlend::Rebase(const NavState& shown, const NavState& best) {
   o.d << so3::Log<double>(best.q_world_imu.conjugate() * shown.q_world_imu),
       shown.p_world - best.p_world, shown.v_world - best.v_world;
   if (!o.d.allFinite()) return;
-  const double at_rate = std::max(o.d.segment<3>(kPositionIndex).norm() / options_.position_rate_mps,
+  const double position_m = o.d.segment<3>(kPositionIndex).norm();
+  const double at_rate = std::max(position_m / options_.position_rate_mps,
                                   o.d.segment<3>(kRotationIndex).norm() / options_.rotation_rate_radps);
-  o.duration_ns = FromSeconds(std::min(max_s, at_rate));
+  double duration_s = std::min(max_s, at_rate);
+  if (!starting && options_.max_position_rate_mps > 0.0) {
+    duration_s = std::max(duration_s, position_m / options_.max_position_rate_mps);
+  }
+  o.duration_ns = FromSeconds(duration_s);
   if (o.duration_ns > 0) offset_ = o;
 }
 
