@@ -122,11 +122,14 @@ OptionTable<OutputBlendOptions> OutputBlendTable() {
   using B = OutputBlendOptions;
   OptionTable<B> t("output blend");
   t.Number("max_s", &B::max_s, Range::NonNegative(),
-           "the longest a correction takes to come in (0: the output jumps to each solve)")
+           "the longest a correction takes to come in, unless max_position_rate_mps "
+           "bounds it (0: the output jumps to each solve)")
       .Number("position_rate_mps", &B::position_rate_mps, Range::Positive(),
               "position correction rate (m/s; x dt is the largest step it adds)")
       .Number("rotation_rate_radps", &B::rotation_rate_radps, Range::Positive(),
               "rotation correction rate (rad/s)")
+      .Number("max_position_rate_mps", &B::max_position_rate_mps, Range::NonNegative(),
+              "a position correction never comes in faster, even beyond max_s (0: no bound)")
       .Number("after_start_s", &B::after_start_s, Range::NonNegative(),
               "for this long after a (re)start (the estimate converges) ...")
       .Number("start_max_s", &B::start_max_s, Range::NonNegative(),

@@ -1,11 +1,12 @@
 // The output's blend of each new solve (estimator/output_blend.hpp): continuity at the solve, the
-// correction ramped in at its rates (or over max_s when larger), the covariance that covers the
-// offset; and in the factor graph, a GNSS outage whose end moves the smoothed state by
+// correction ramped in at its rates (or over max_s when larger, but never faster than
+// max_position_rate_mps after the start period), the covariance that covers the offset; and in the factor graph, a GNSS outage whose end moves the smoothed state by
 // decimetres: the output steps stay within the rate and the output joins the unblended one.
 #include "estimator/output_blend.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -38,10 +39,15 @@ NavState Shown(double t_s, double position) {
   return shown;
 }
 
-// Steps of the blended output beyond the best estimate's motion over 3 s after a solve at t_s,
-// checking continuity, the ramp and the covariance on the way; returns the largest step.
-double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
-                   double duration_s) {
+// Steps of the blended output beyond the best estimate's motion over position_duration_s + 1 s
+// (at least 3 s) after a solve at t_s, checking continuity, the ramps (rotation and velocity over
+// duration_s, position over position_duration_s, by default the same) and the covariance on the
+// way; returns the largest step.
+double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s, double duration_s,
+                   std::optional<double> position_duration = std::nullopt) {
+  const double position_duration_s = position_duration.value_or(duration_s);
+  const int samples =
+      std::max(300, static_cast<int>(std::ceil((position_duration_s + 1.0) / 0.01)));
   const Vec9 d = testing::StateDifference(shown, BestAt(t_s).state);
   const PropagatedState at = blend.Apply(BestAt(t_s));
   EXPECT_LT(testing::StateDifference(at.state, shown).norm(), 1e-12);  // what was shown, exactly
@@ -50,7 +56,7 @@ double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
             1e-15);
   double largest = 0.0;
   PropagatedState previous = at;
-  for (int k = 1; k <= 300; ++k) {
+  for (int k = 1; k <= samples; ++k) {
     const double t = t_s + 0.01 * k;
     const PropagatedState best = BestAt(t);
     const PropagatedState out = blend.Apply(best);
@@ -58,7 +64,10 @@ double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
     largest = std::max(largest, (out.state.p_world - previous.state.p_world - motion).norm());
     const Vec9 b = testing::StateDifference(out.state, best.state);
     const double w = std::max(0.0, 1.0 - (t - t_s) / duration_s);
-    EXPECT_LT((b - w * d).norm(), 1e-9) << "t " << t;
+    const double w_position = std::max(0.0, 1.0 - (t - t_s) / position_duration_s);
+    Vec9 expected = w * d;
+    expected.segment<3>(kPositionIndex) = w_position * d.segment<3>(kPositionIndex);
+    EXPECT_LT((b - expected).norm(), 1e-9) << "t " << t;
     // The covariance grows by exactly the square of the offset shown.
     const Mat9 added = out.covariance.topLeftCorner<9, 9>() - best.covariance.topLeftCorner<9, 9>();
     EXPECT_LT((added - b * b.transpose()).norm(), 1e-12);
@@ -66,7 +75,7 @@ double LargestStep(const OutputBlend& blend, const NavState& shown, double t_s,
     EXPECT_EQ(biases, (best.covariance.bottomRightCorner<6, 6>()));
     previous = out;
   }
-  EXPECT_EQ(previous.state.p_world, BestAt(t_s + 3.0).state.p_world);  // in, entirely
+  EXPECT_EQ(previous.state.p_world, BestAt(t_s + 0.01 * samples).state.p_world);  // in, entirely
   return largest;
 }
 
@@ -85,9 +94,45 @@ TEST(OutputBlend, ACorrectionComesInAtItsRateAndNoSlowerThanMaxS) {
   EXPECT_NEAR(LargestStep(blend, Shown(3.0, 2.0), 3.0, 1.0), 0.02, 1e-9);
 }
 
+// A correction of tens of metres (a drifted outage that a turn reveals) would come in at
+// 0.1-0.4 m per sample over max_s; it slides in at max_position_rate_mps instead.
+TEST(OutputBlend, ALargeCorrectionComesInNoFasterThanMaxPositionRate) {
+  OutputBlendOptions o;  // 1 s at most, 1 m/s, but never faster than 3 m/s
+  ASSERT_EQ(o.max_position_rate_mps, 3.0);
+  OutputBlend blend(o);
+  // 3 m: max_s, as before (3 m/s, 3 cm per sample).
+  blend.Rebase(Shown(3.0, 3.0), BestAt(3.0).state);
+  EXPECT_NEAR(LargestStep(blend, Shown(3.0, 3.0), 3.0, 1.0), 0.03, 1e-9);
+  // 12 m: 4 s at 3 m/s, 3 cm per sample; within max_s it would have been 12 cm. Rotation and
+  // velocity still come in over max_s.
+  blend.Rebase(Shown(3.0, 12.0), BestAt(3.0).state);
+  EXPECT_NEAR(LargestStep(blend, Shown(3.0, 12.0), 3.0, 1.0, 4.0), 0.03, 1e-9);
+  // Without the bound: over max_s.
+  o.max_position_rate_mps = 0.0;
+  OutputBlend unbounded(o);
+  unbounded.Rebase(Shown(3.0, 12.0), BestAt(3.0).state);
+  EXPECT_NEAR(LargestStep(unbounded, Shown(3.0, 12.0), 3.0, 1.0), 0.12, 1e-9);
+}
+
+// In the start period the converging estimate's corrections come in within start_max_s,
+// whatever their size: the bound does not lag the start.
+TEST(OutputBlend, TheStartPeriodIsNotBoundByTheMaxPositionRate) {
+  OutputBlendOptions o;
+  OutputBlend blend(o);
+  blend.Start(FromSeconds(0.0));
+  blend.Rebase(Shown(3.0, 12.0), BestAt(3.0).state);
+  EXPECT_NEAR(LargestStep(blend, Shown(3.0, 12.0), 3.0, o.start_max_s), 12.0 * 0.01 / o.start_max_s,
+              1e-9);
+  // After it, the bound holds.
+  blend.Rebase(Shown(o.after_start_s + 1.0, 12.0), BestAt(o.after_start_s + 1.0).state);
+  EXPECT_NEAR(
+      LargestStep(blend, Shown(o.after_start_s + 1.0, 12.0), o.after_start_s + 1.0, 1.0, 4.0),
+      0.03, 1e-9);
+}
+
 TEST(OutputBlend, MaxSZeroOrAResetShowsTheBestEstimate) {
   OutputBlendOptions o;
-  o.max_s = 0.0;  // the default
+  o.max_s = 0.0;  // off
   OutputBlend off(o);
   off.Rebase(Shown(1.0, 1.0), BestAt(1.0).state);
   EXPECT_EQ(off.Apply(BestAt(1.2)).state.p_world, BestAt(1.2).state.p_world);
