@@ -1,5 +1,5 @@
 // statebench run SCENARIO.yaml --out DIR [--estimators a,b] [--seed N] [--duration S]
-//                [--full-covariance] [--quiet]
+//                [--threads N] [--full-covariance] [--quiet]
 //
 // Simulator, sensors and estimators in one process, streaming (no disk in between): every
 // measurement of the scenario's sensor setup goes, in arrival order, to every estimator of the
@@ -19,12 +19,13 @@
 #include "apps/commands.hpp"
 #include "apps/cpu_profile.hpp"
 #include "apps/estimator_feed.hpp"
+#include "apps/lidar_odometry_cache.hpp"
 #include "apps/memory_trace.hpp"
 #include "apps/scenario_estimators.hpp"
 #include "apps/scenario_overrides.hpp"
 #include "apps/scored_outages.hpp"
-#include "apps/lidar_odometry_cache.hpp"
 #include "apps/stage_cache_options.hpp"
+#include "apps/thread_limit.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
 #include "estimator/estimator_factory.hpp"
@@ -41,7 +42,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* kUsage =
     "usage: statebench run SCENARIO.yaml --out DIR [--estimators NAME,...] [--seed N]\n"
-    "                      [--duration S] [--full-covariance] [--quiet]\n"
+    "                      [--duration S] [--threads N] [--full-covariance] [--quiet]\n"
     "                      [--cache DIR [--cache-limit-gb G]]\n"
     "  Runs the scenario's simulation, its sensor setup and each estimator of its `estimators:`\n"
     "  list (default: factor_graph and ekf) in one process and writes per estimator\n"
@@ -50,6 +51,7 @@ constexpr const char* kUsage =
     "  entries of the list by name or by type. --cache keeps the SUMO result and every sensor's\n"
     "  stream in DIR under a hash of what they depend on and reuses them (same bits; run.json\n"
     "  counts the hits); the least recently used entries go beyond G GB (default 20).\n"
+    "  --threads N: at most N threads (default: every core); the results do not depend on it.\n"
     "  Exit code 3 when an estimator never initialised (all else written; stderr says what it\n"
     "  waited for).\n";
 
@@ -98,7 +100,7 @@ int RunRun(const std::vector<std::string>& argv) {
       ParseCommand({"run",
                     kUsage,
                     {"quiet", "full-covariance"},
-                    {"out", "estimators", "seed", "duration", "cache", "cache-limit-gb"},
+                    {"out", "estimators", "seed", "duration", "threads", "cache", "cache-limit-gb"},
                     1,
                     {"out"}},
                    argv);
@@ -109,6 +111,7 @@ int RunRun(const std::vector<std::string>& argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   const CpuProfile cpu;
   try {
+    const ThreadLimit threads(ThreadsOption(*args));
     const sim::Scenario scenario = LoadScenarioWithOverrides(*args);
     std::vector<sim::EstimatorSpec> specs = sim::ScenarioEstimators(scenario);
     if (const auto option = args->Option("estimators")) {
@@ -232,6 +235,7 @@ int RunRun(const std::vector<std::string>& argv) {
     if (scenario.mismatch) summary["mismatch"] = MismatchJson(sensors.mismatch, *vehicle);
     summary["memory"] = memory.Json();
     summary["cpu"] = cpu.Json(feed.estimators(), end_s);
+    summary["cpu"]["threads"] = ThreadLimit::Threads();
     for (const auto& [registered, reused] : lidar_pool.Counts()) {
       summary["shared_lidar_odometry"].push_back({{"registered", registered}, {"reused", reused}});
     }

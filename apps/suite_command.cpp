@@ -1,11 +1,12 @@
-// statebench suite [DIR] --out OUT [--jobs N] [--seed N] [--duration S] [--quiet]
+// statebench suite [DIR] --out OUT [--jobs N] [--threads T] [--seed N] [--duration S] [--quiet]
 //
 // Runs every scenario DIR/*.yaml (default scenarios/paper) as its own `statebench run` process
-// (this same binary), N at a time, each into OUT/<scenario name>/ with its output in run.log
-// there; a failing scenario is reported and the others go on. Then reads every run.json and
-// builds Table I of the paper side by side with ours (reports/paper_table.hpp): printed, and
-// written to OUT/table1.md and OUT/table1.json, with OUT/suite.json holding each scenario's
-// status, wall time and real-time factor. Exit code 1 when a scenario failed.
+// (this same binary), N at a time, each with --threads T (default max(1, cores / N): the runs
+// are the parallelism) into OUT/<scenario name>/ with its output in run.log there; a failing
+// scenario is reported and the others go on. Then reads every run.json and builds Table I of
+// the paper side by side with ours (reports/paper_table.hpp): printed, and written to
+// OUT/table1.md and OUT/table1.json, with OUT/suite.json holding each scenario's status, wall
+// time and real-time factor. Exit code 1 when a scenario failed.
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -27,6 +28,7 @@
 #include "apps/command_support.hpp"
 #include "apps/commands.hpp"
 #include "apps/process_pool.hpp"
+#include "apps/thread_limit.hpp"
 #include "core/error.hpp"
 #include "reports/paper_table.hpp"
 #include "simulator/scenario.hpp"
@@ -38,14 +40,16 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr const char* kUsage =
-    "usage: statebench suite [DIR] --out OUT [--jobs N] [--seed N] [--duration S] [--quiet]\n"
+    "usage: statebench suite [DIR] --out OUT [--jobs N] [--threads T] [--seed N] [--duration S]\n"
+    "                        [--quiet]\n"
     "  Runs every scenario DIR/*.yaml (default scenarios/paper) with `statebench run`, N at a\n"
     "  time (default 2), into OUT/<scenario>/ (log in run.log there), then prints Table I of the\n"
     "  paper side by side with ours and writes OUT/table1.md, OUT/table1.json, OUT/suite.json.\n"
-    "  --seed and --duration are passed to every run. Exit code 1 if a scenario failed.\n";
+    "  --seed, --duration and --threads (default: max(1, cores / N)) are passed to every run.\n"
+    "  Exit code 1 if a scenario failed.\n";
 
 const std::set<std::string> kFlags = {"quiet"};
-const std::set<std::string> kOptions = {"out", "jobs", "seed", "duration"};
+const std::set<std::string> kOptions = {"out", "jobs", "threads", "seed", "duration"};
 
 // scenarios/paper of the working folder, else of the source tree.
 std::string DefaultDir() {
@@ -297,7 +301,7 @@ void PrintStages(const nlohmann::json& run) {
 }
 
 nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
-                         std::size_t jobs_at_once, double wall_s) {
+                         std::size_t jobs_at_once, std::uint64_t threads, double wall_s) {
   nlohmann::json scenarios = nlohmann::json::array();
   for (const Job& job : jobs) {
     nlohmann::json j = {{"name", job.name},
@@ -324,6 +328,7 @@ nlohmann::json SuiteJson(const std::vector<Job>& jobs, const fs::path& dir,
   }
   return {{"dir", dir.string()},
           {"jobs", jobs_at_once},
+          {"threads_per_run", threads},
           {"wall_time_s", wall_s},
           {"scenarios", scenarios}};
 }
@@ -347,7 +352,8 @@ int RunSuite(const std::vector<std::string>& argv) {
       throw std::invalid_argument("--duration: must be positive");
     }
     args.Unsigned("seed");
-    std::vector<std::string> passed;
+    const std::uint64_t threads = ThreadsOption(args).value_or(ThreadsPerJob(jobs_at_once));
+    std::vector<std::string> passed = {"--threads", std::to_string(threads)};
     for (const char* option : {"seed", "duration"}) {
       if (const auto v = args.Option(option)) {
         passed.push_back(std::string("--") + option);
@@ -366,11 +372,13 @@ int RunSuite(const std::vector<std::string>& argv) {
     const std::string markdown = reports::ToMarkdown(table);
     std::ofstream(out / "table1.md") << markdown;
     std::ofstream(out / "table1.json") << reports::ToJson(table).dump(2) << "\n";
-    std::ofstream(out / "suite.json") << SuiteJson(jobs, dir, jobs_at_once, wall_s).dump(2) << "\n";
+    std::ofstream(out / "suite.json")
+        << SuiteJson(jobs, dir, jobs_at_once, threads, wall_s).dump(2) << "\n";
     std::printf("%s\n", markdown.c_str());
     std::size_t failed = 0;
-    std::printf("Suite: %zu scenarios in %.1f s wall (%llu at a time):\n", jobs.size(), wall_s,
-                static_cast<unsigned long long>(jobs_at_once));
+    std::printf("Suite: %zu scenarios in %.1f s wall (%llu at a time, %llu thread%s each):\n",
+                jobs.size(), wall_s, static_cast<unsigned long long>(jobs_at_once),
+                static_cast<unsigned long long>(threads), threads == 1 ? "" : "s");
     for (const Job& job : jobs) {
       if (job.run) {
         const double simulated_s = job.run->value("simulated_s", 0.0);

@@ -1,9 +1,10 @@
-// statebench sweep SWEEP.yaml --out DIR [--jobs N] [--shard I/N] [--resume] [--dry-run]
-//                  [--duration S] [--cache DIR | --no-cache] [--cache-limit-gb G]
+// statebench sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--shard I/N] [--resume]
+//                  [--dry-run] [--duration S] [--cache DIR | --no-cache] [--cache-limit-gb G]
 //
 // Expands the sweep file (sweep_file.hpp, sweep_expansion.hpp) into runs and starts each as its
-// own `statebench run` process, --jobs at a time, in DIR/runs/<id>/; every finished run goes
-// into the results store DIR/results.db in one transaction (reports/results_store.hpp).
+// own `statebench run` process, --jobs at a time with --threads each, in DIR/runs/<id>/; every
+// finished run goes into the results store DIR/results.db in one transaction
+// (reports/results_store.hpp).
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 #include "apps/sweep_expansion.hpp"
 #include "apps/sweep_run_record.hpp"
 #include "apps/sweep_schedule.hpp"
+#include "apps/thread_limit.hpp"
 #include "core/error.hpp"
 #include "reports/results_store.hpp"
 #include "simulator/xml_scan.hpp"
@@ -37,11 +39,12 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kUsage =
-    "usage: statebench sweep SWEEP.yaml --out DIR [--jobs N] [--shard I/N] [--resume]\n"
-    "                        [--dry-run] [--duration S] [--cache DIR | --no-cache]\n"
+    "usage: statebench sweep SWEEP.yaml --out DIR [--jobs N] [--threads T] [--shard I/N]\n"
+    "                        [--resume] [--dry-run] [--duration S] [--cache DIR | --no-cache]\n"
     "                        [--cache-limit-gb G]\n"
     "  Expands the sweep file (docs/sweeps.md) into runs, each an independent `statebench run`\n"
-    "  process in DIR/runs/<id>/, --jobs at a time (default: the number of cores), and writes\n"
+    "  process in DIR/runs/<id>/, --jobs at a time (default: the number of cores) with --threads\n"
+    "  threads each (default: max(1, cores / jobs); the results do not depend on it), and writes\n"
     "  every finished run into the results store DIR/results.db (docs/results-store.md).\n"
     "  --resume skips the runs already complete in the store and re-runs failed or interrupted\n"
     "  ones. --shard I/N runs the I-th of N deterministic parts (merge the stores with\n"
@@ -117,21 +120,23 @@ std::string Duration(double s) {
 }  // namespace
 
 int RunSweep(const std::vector<std::string>& argv) {
-  const auto parsed = ParseCommand({"sweep",
-                                    kUsage,
-                                    {"resume", "dry-run", "no-cache"},
-                                    {"out", "jobs", "shard", "duration", "cache", "cache-limit-gb"},
-                                    1,
-                                    {"out"}},
-                                   argv);
+  const auto parsed =
+      ParseCommand({"sweep",
+                    kUsage,
+                    {"resume", "dry-run", "no-cache"},
+                    {"out", "jobs", "threads", "shard", "duration", "cache", "cache-limit-gb"},
+                    1,
+                    {"out"}},
+                   argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs& args = std::get<CliArgs>(parsed);
   try {
     const fs::path sweep_file = args.positional().at(0);
     const fs::path out_dir = *args.Option("out");
-    const int jobs = static_cast<int>(
-        args.Unsigned("jobs").value_or(std::max(1L, sysconf(_SC_NPROCESSORS_ONLN))));
+    const int jobs = static_cast<int>(args.Unsigned("jobs").value_or(OnlineCores()));
     if (jobs < 1) throw std::invalid_argument("--jobs: must be at least 1");
+    const std::uint64_t threads =
+        ThreadsOption(args).value_or(ThreadsPerJob(static_cast<std::uint64_t>(jobs)));
     const auto [shard, shards] = ParseShard(args.Option("shard").value_or("1/1"));
     std::optional<double> duration = args.Double("duration");
     if (duration && !(*duration > 0.0)) throw std::invalid_argument("--duration: must be positive");
@@ -184,8 +189,11 @@ int RunSweep(const std::vector<std::string>& argv) {
         args.Option("cache-limit-gb").value_or(std::to_string(kDefaultCacheLimitGb));
     BuildIdentity();  // hashed once here, inherited by every run
 
-    std::fprintf(stderr, "sweep %s: %zu runs (%zu already complete), %d at a time; store %s\n",
+    std::fprintf(stderr,
+                 "sweep %s: %zu runs (%zu already complete), %d at a time, %llu thread%s each; "
+                 "store %s\n",
                  spec.name.c_str(), runs.size(), runs.size() - todo.size(), jobs,
+                 static_cast<unsigned long long>(threads), threads == 1 ? "" : "s",
                  store_file.c_str());
     ProgressBar bar("sweep " + spec.name);
     ProcessPool pool;
@@ -225,6 +233,7 @@ int RunSweep(const std::vector<std::string>& argv) {
         std::ofstream(dir / "scenario.yaml") << run.scenario_yaml;
         std::vector<std::string> run_args = {(dir / "scenario.yaml").string(), "--out",
                                              dir.string(), "--quiet"};
+        run_args.insert(run_args.end(), {"--threads", std::to_string(threads)});
         if (!args.Flag("no-cache")) {
           run_args.insert(run_args.end(),
                           {"--cache", cache_dir.string(), "--cache-limit-gb", cache_limit});

@@ -139,10 +139,15 @@ NormalEquations Accumulate(const std::vector<Vec3>& points, const VoxelHashMap& 
             W_s = Rt * cache->P[i] * R;
             dof = W_s.trace();
           }
-          Eigen::Matrix<double, 3, 6> J;
-          J << Mat3::Identity(), -so3::Hat(p);
-          const Eigen::Matrix<double, 6, 3> JtW = w * J.transpose() * W_s;
-          acc.H.noalias() += JtW * J;
+          // J = [I, N] with N = -hat(p): J^T W = [w W; w N^T W] and J^T W J = [J^T W, J^T W N],
+          // without the products by the identity's ones and zeros (each entry is the same sum of
+          // the same products, so the same bits as the full 6 x 3 and 6 x 6 products).
+          const Mat3 N = -so3::Hat(p);
+          Eigen::Matrix<double, 6, 3> JtW;
+          JtW.topRows<3>() = w * W_s;
+          JtW.bottomRows<3>() = (w * N.transpose()) * W_s;
+          acc.H.leftCols<3>() += JtW;
+          acc.H.rightCols<3>().noalias() += JtW * N;
           acc.g.noalias() += JtW * r_s;
           acc.weighted_sq += w * r_s.dot(W_s * r_s);
           acc.weighted_dof += w * dof;

@@ -14,9 +14,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
+#include "apps/thread_limit.hpp"
 #include "core/error.hpp"
 #include "reports/results_store.hpp"
 
@@ -199,6 +201,13 @@ TEST_F(SweepCommandTest, AFailingRunIsRecordedAndTheSweepGoesOn) {
     EXPECT_NE(r.error.find("depart"), std::string::npos) << r.error;
   }
   EXPECT_EQ(failed, 1);
+  // Two runs at a time share the cores: each got max(1, cores / 2) threads.
+  for (const reports::RunRecord& r : runs) {
+    if (r.status != "ok") continue;
+    std::ifstream in(dir_ / "failing" / "runs" / r.id / "run.json");
+    const nlohmann::json run = nlohmann::json::parse(in);
+    EXPECT_EQ(run["cpu"]["threads"].get<std::uint64_t>(), ThreadsPerJob(2));
+  }
 }
 
 TEST_F(SweepCommandTest, ARunWhoseEstimatorNeverStartsIsCompleteAndItsFiguresUnavailable) {
