@@ -1,4 +1,5 @@
-// statebench compare BASE CANDIDATE [--thresholds FILE] [--out compare.html]
+// statebench compare BASE CANDIDATE [--estimators BASE_EST,CANDIDATE_EST] [--thresholds FILE]
+//                    [--out compare.html]
 //
 // Regression verdicts between two versions (reports/paired_comparison.hpp, docs/regression.md):
 // BASE and CANDIDATE are results stores (a .db file, or a sweep's --out folder holding
@@ -24,14 +25,18 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kUsage =
-    "usage: statebench compare BASE CANDIDATE [--thresholds FILE] [--out compare.html]\n"
+    "usage: statebench compare BASE CANDIDATE [--estimators BASE_EST,CANDIDATE_EST]\n"
+    "                          [--thresholds FILE] [--out compare.html]\n"
     "  BASE and CANDIDATE: results stores (file, or a sweep folder with results.db) or run\n"
     "  folders (with run.json). Runs are paired by scenario, parameters and seed; per estimator\n"
     "  and metric of the thresholds file (default scenarios/regression/thresholds.yaml): the\n"
     "  paired differences, a Wilcoxon signed-rank test, a bootstrap interval of the median\n"
     "  difference and a verdict (better / worse / no significant change). Prints a Markdown\n"
-    "  summary, writes the HTML report with plots of the paired differences with --out. Exit code: 0 no metric worse, 1 some metric worse,\n"
-    "  2 bad input (no run in common, a bad thresholds file), 3 another failure.\n";
+    "  summary, writes the HTML report with plots of the paired differences with --out.\n"
+    "  --estimators: estimator BASE_EST of BASE against CANDIDATE_EST of CANDIDATE (BASE and\n"
+    "  CANDIDATE may be the same store: two estimators of one sweep, paired run by run).\n"
+    "  Exit code: 0 no metric worse, 1 some metric worse, 2 bad input (no run in common, an\n"
+    "  estimator no run has, a bad thresholds file), 3 another failure.\n";
 
 // The runs of a store or of a run folder.
 std::vector<reports::RunRecord> LoadRuns(const fs::path& where) {
@@ -79,7 +84,7 @@ fs::path DefaultThresholds() {
 
 int RunCompare(const std::vector<std::string>& argv) {
   const auto parsed =
-      ParseCommand({"compare", kUsage, {}, {"thresholds", "out"}, 2, {}}, argv);
+      ParseCommand({"compare", kUsage, {}, {"estimators", "thresholds", "out"}, 2, {}}, argv);
   if (const int* code = std::get_if<int>(&parsed)) return *code;
   const CliArgs& args = std::get<CliArgs>(parsed);
   try {
@@ -87,8 +92,23 @@ int RunCompare(const std::vector<std::string>& argv) {
     const fs::path candidate = args.positional().at(1);
     const reports::RegressionThresholds thresholds = reports::LoadRegressionThresholds(
         args.Option("thresholds") ? fs::path(*args.Option("thresholds")) : DefaultThresholds());
-    const reports::Comparison c =
-        reports::CompareRuns(LoadRuns(base), LoadRuns(candidate), thresholds);
+    std::vector<reports::RunRecord> base_runs = LoadRuns(base);
+    std::vector<reports::RunRecord> candidate_runs = LoadRuns(candidate);
+    if (const auto pair = args.Option("estimators")) {
+      const std::size_t comma = pair->find(',');
+      if (comma == std::string::npos || comma == 0 || comma + 1 == pair->size() ||
+          pair->find(',', comma + 1) != std::string::npos) {
+        throw InputError("--estimators: expected BASE_EST,CANDIDATE_EST, got '" + *pair + "'");
+      }
+      const std::string base_estimator = pair->substr(0, comma);
+      const std::string candidate_estimator = pair->substr(comma + 1);
+      const std::string label = base_estimator + " -> " + candidate_estimator;
+      base_runs = reports::SelectEstimator(std::move(base_runs), base_estimator, label,
+                                           base.string());
+      candidate_runs = reports::SelectEstimator(std::move(candidate_runs), candidate_estimator,
+                                                label, candidate.string());
+    }
+    const reports::Comparison c = reports::CompareRuns(base_runs, candidate_runs, thresholds);
     std::printf("%s", reports::ComparisonMarkdown(c, base.string(), candidate.string()).c_str());
     std::fflush(stdout);
     if (const auto out = args.Option("out")) {

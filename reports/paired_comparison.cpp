@@ -144,6 +144,31 @@ bool Comparison::AnyWorse() const {
                      [](const MetricComparison& m) { return m.verdict == Verdict::kWorse; });
 }
 
+std::vector<RunRecord> SelectEstimator(std::vector<RunRecord> runs, const std::string& estimator,
+                                       const std::string& label, const std::string& where) {
+  std::set<std::string> present;
+  bool found = false;
+  for (RunRecord& run : runs) {
+    std::vector<MetricValue> kept;
+    for (MetricValue& m : run.metrics) {
+      present.insert(m.estimator);
+      if (m.estimator != estimator) continue;
+      found = true;
+      m.estimator = label;
+      kept.push_back(std::move(m));
+    }
+    run.metrics = std::move(kept);
+  }
+  if (!found) {
+    std::string names;
+    for (const std::string& name : present) names += (names.empty() ? "" : ", ") + name;
+    throw InputError(where + ": no run has the estimator '" + estimator + "' (" +
+                     (names.empty() ? std::string("no estimator at all") : "it has: " + names) +
+                     ")");
+  }
+  return runs;
+}
+
 std::string PairingKey(const RunRecord& run) {
   std::vector<std::pair<std::string, std::string>> parameters = run.parameters;
   std::sort(parameters.begin(), parameters.end());

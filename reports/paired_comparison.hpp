@@ -88,6 +88,13 @@ std::string PairingKey(const RunRecord& run);
 Comparison CompareRuns(const std::vector<RunRecord>& base, const std::vector<RunRecord>& candidate,
                        const RegressionThresholds& thresholds);
 
+// Two estimators of the same runs compared with each other (statebench compare --estimators):
+// the runs with only `estimator`'s metrics kept, relabelled `label`, so that CompareRuns pairs
+// them with another estimator's runs relabelled the same. Throws InputError naming `where` and
+// the estimators it has when no run has `estimator`.
+std::vector<RunRecord> SelectEstimator(std::vector<RunRecord> runs, const std::string& estimator,
+                                       const std::string& label, const std::string& where);
+
 // Markdown summary (a pull-request comment). The HTML report with plots is drawn from
 // ComparisonJson (reports/comparison_json.hpp) by the compare report (docs/reports.md).
 std::string ComparisonMarkdown(const Comparison& c, const std::string& base_name,

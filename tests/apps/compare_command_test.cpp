@@ -95,6 +95,27 @@ TEST_F(CompareCommandTest, WorseByConstructionFailsTheGateAndTheSameConfiguratio
   EXPECT_EQ(same.output.find("**better**"), std::string::npos) << same.output;
   EXPECT_NE(same.output.find("0 worse, 0 better"), std::string::npos) << same.output;
 
+  // Two estimators of one store: an estimator no run has is bad input naming the store and
+  // what it has; a malformed pair is bad input too.
+  const Outcome missing = Statebench("compare " + (dir_ / "base").string() + " " +
+                                     (dir_ / "base").string() + " --estimators ekf,factor_graph");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("no run has the estimator 'ekf' (it has: factor_graph)"),
+            std::string::npos)
+      << missing.output;
+  EXPECT_EQ(Statebench("compare " + (dir_ / "base").string() + " " + (dir_ / "base").string() +
+                       " --estimators factor_graph")
+                .exit_code,
+            2);
+  // The same estimator against itself through --estimators: every pair equal.
+  const Outcome itself =
+      Statebench("compare " + (dir_ / "base").string() + " " + (dir_ / "again").string() +
+                 " --estimators factor_graph,factor_graph");
+  EXPECT_EQ(itself.exit_code, 0) << itself.output;
+  EXPECT_NE(itself.output.find("| factor_graph -> factor_graph | rmse.position_m | 10 |"),
+            std::string::npos)
+      << itself.output;
+
   // Nothing in common: a clear message and exit code 2.
   std::ofstream(dir_ / "other.yaml") << "name: other\nscenarios: [" << base.string()
                                      << "]\nseeds: [7]\nduration_s: 3\nestimators: [ekf]\n";

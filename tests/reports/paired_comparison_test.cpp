@@ -103,6 +103,39 @@ TEST(CompareRuns, RunsPairByScenarioParametersAndSeedOnly) {
   EXPECT_THROW(CompareRuns(base, candidate, Thresholds()), InputError);
 }
 
+TEST(CompareRuns, TwoEstimatorsOfTheSameRunsCompareWithEachOther) {
+  // One store, two estimators: "fg" better than "ekf" on every run by construction, so the
+  // paired verdict of ekf -> fg is "better" with 12 pairs; the other way round "worse".
+  std::vector<RunRecord> runs;
+  for (std::uint64_t s = 1; s <= 12; ++s) {
+    RunRecord r = MakeRun(s, 0.2 + 0.01 * s, 6.0);
+    r.metrics.push_back({"ekf", "rmse.x_m", 0.3 + 0.012 * s});
+    r.metrics.push_back({"ekf", "nees.pose_6dof_mean", 6.0});
+    runs.push_back(r);
+  }
+  const std::string label = "ekf -> fg";
+  const Comparison c = CompareRuns(SelectEstimator(runs, "ekf", label, "store"),
+                                   SelectEstimator(runs, "fg", label, "store"), Thresholds());
+  ASSERT_EQ(c.pairs, 12u);
+  ASSERT_EQ(c.metrics.size(), 2u);
+  EXPECT_EQ(c.metrics[0].estimator, label);
+  EXPECT_EQ(c.metrics[0].metric, "rmse.x_m");
+  EXPECT_EQ(c.metrics[0].verdict, Verdict::kBetter);
+  EXPECT_EQ(c.metrics[0].pairs, 12u);
+  EXPECT_EQ(c.metrics[1].verdict, Verdict::kNoChange);  // NEES equal on both
+  const Comparison reverse = CompareRuns(SelectEstimator(runs, "fg", label, "store"),
+                                         SelectEstimator(runs, "ekf", label, "store"),
+                                         Thresholds());
+  EXPECT_EQ(reverse.metrics[0].verdict, Verdict::kWorse);
+  try {
+    SelectEstimator(runs, "factor_graph", label, "out/store.db");
+    FAIL() << "an estimator no run has must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("out/store.db"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("it has: ekf, fg"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RegressionThresholds, TheCheckedInFileLoadsAndBadFilesNameTheirLine) {
   const RegressionThresholds t = LoadRegressionThresholds("scenarios/regression/thresholds.yaml");
   EXPECT_GE(t.metrics.size(), 5u);
