@@ -18,7 +18,8 @@ FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& p
   set.gnss = gnss.get();
   set.all.push_back(std::move(encoders));
   set.all.push_back(std::move(motion));
-  set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx, lidar_pool));
+  set.all.push_back(
+      std::make_unique<LidarFrontEnd>(setup, plan.lidars, options, ctx, lidar_pool));
   set.all.push_back(std::move(gnss));
   set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, options, ctx));
   return set;

@@ -1,4 +1,4 @@
-// Lidar front end: scans of the used lidars (several merged into one scan per period in the first
+// Lidar front end: the scans of its lidars (several merged into one scan per period in the first
 // lidar's frame) wait until the IMU covers their sweep, are deskewed and predicted with the IMU
 // (poses every 5 ms over the sweep, from the window or the IMU-rate propagation), registered by
 // the lidar odometry, checked against the IMU prior, and become relative-pose factors between
@@ -16,6 +16,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end.hpp"
@@ -27,12 +28,16 @@ namespace statebench::est {
 
 class LidarFrontEnd final : public MeasurementFrontEnd {
  public:
-  // `setup` (through `plan`) and `options` must outlive the front end. pool: where a shared
+  // `setup` (which `lidars` point into) and `options` must outlive the front end. lidars: the
+  // lidars it registers (several: merged into the first one's frame); empty: lidar factors off,
+  // every lidar scan of the setup is taken and refused as disabled. pool: where a shared
   // odometry comes from (constant-velocity prior); nullptr: one of its own.
-  LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+  LidarFrontEnd(const EstimatorSensorSetup& setup, std::vector<const EstimatorSensor*> lidars,
                 const FactorGraphOptions& options, FrontEndContext& ctx,
                 LidarOdometryPool* pool = nullptr);
 
+  // Takes the scans of its lidars (of every lidar of the setup when it has none); a lidar of
+  // the setup that another front end registers is kOtherKind.
   Claim Claims(const Measurement& m) const override;
   void Process(const Measurement& m) override;
   void AfterRelease() override { ProcessWaitingScans(); }
@@ -51,12 +56,13 @@ class LidarFrontEnd final : public MeasurementFrontEnd {
   // The lidar's motion between two stamps predicted by the estimator (nullopt if not held).
   std::optional<SE3> PredictedMotion(TimeNs from_ns, TimeNs to_ns) const;
   // The (first) lidar's mount correction as globals of the window with lidar.estimate_mount,
-  // else none; and its X = T_imu_lidar turned by the current estimate.
+  // else none; and its X = T_imu_lidar turned by the current estimate. The globals are named
+  // after the lidar: each front end's lidar has its own.
   std::optional<SlidingWindowSmoother::MountCorrection> MountCorrection();
   SE3 ImuLidar() const;
 
   const EstimatorSensorSetup& setup_;
-  const FactorPlan& plan_;
+  const std::vector<const EstimatorSensor*> lidars_;
   const FactorGraphOptions& options_;
   FrontEndContext& ctx_;
   std::optional<LidarOdometry> odometry_;          // IMU prior: this estimator's own
