@@ -1,10 +1,18 @@
-// Lidar front end: the scans of its lidars (several merged into one scan per period in the first
-// lidar's frame) wait until the IMU covers their sweep, are deskewed and predicted with the IMU
-// (poses every 5 ms over the sweep, from the window or the IMU-rate propagation), registered by
-// the lidar odometry, checked against the IMU prior, and become relative-pose factors between
-// consecutive scans with the odometry's covariance (scaled and floored). With
-// lidar.estimate_mount the lidar frame's rotation against the IMU is estimated as three globals
-// of the window (relative_pose_factor.hpp, MountAxes).
+// Lidar front end: the scans of one lidar (or, with lidar.merge_scans, of several merged into one
+// scan per period in the first lidar's frame) wait until the IMU covers their sweep, are deskewed
+// and predicted with the IMU (poses every 5 ms over the sweep, from the window or the IMU-rate
+// propagation), registered by the lidar odometry, checked against the IMU prior, and become
+// relative-pose factors between consecutive scans with the odometry's covariance (scaled and
+// floored). With lidar.estimate_mount the lidar frame's rotation against the IMU is estimated as
+// three globals of the window (relative_pose_factor.hpp, MountAxes), per lidar.
+//
+// By default every lidar has a front end of its own (MakeFrontEnds): its own odometry, map,
+// factors and mount globals. Merging trusts the lidars' relative mounts as exact: a relative
+// rotation error d (hand-measured mounts, ~0.2 deg per axis each) turns one lidar's points
+// against the other's by d (10 cm at 30 m on a 0.2 deg error), the map they share holds both
+// versions of each surface and every registration pulls towards a compromise that moves with the
+// vehicle: the odometry drifts in yaw, which no single mount correction of the merged frame can
+// take out (docs/estimator-config.md, "Several lidars").
 //
 // With lidar.motion_prior: constant_velocity (or gyro) the odometry predicts with its own model
 // (and the raw gyro's rotation) instead and is shared (shared_lidar_odometry.hpp): every scan of the used lidars is registered, before
