@@ -192,6 +192,10 @@ OptionTable<LidarFactorOptions> LidarTable() {
               "prior sigma of each mount angle")
       .Number("mount_max_deg", &L::mount_max_deg, Range::Positive(),
               "each mount angle held within +-this")
+      .Flag("merge_scans", &L::merge_scans,
+            "several lidars: register their scans merged into one per period through the "
+            "setup's mounts (false: each lidar on its own, with its own odometry and mount "
+            "globals)")
       .AddRule([](const L& o) -> std::optional<std::pair<std::string, std::string>> {
         if (o.odometry.max_range_m > o.odometry.min_range_m) return std::nullopt;
         return std::make_pair(std::string("max_range_m"), std::string("must exceed min_range_m"));

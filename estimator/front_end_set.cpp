@@ -18,7 +18,17 @@ FrontEndSet MakeFrontEnds(const EstimatorSensorSetup& setup, const FactorPlan& p
   set.gnss = gnss.get();
   set.all.push_back(std::move(encoders));
   set.all.push_back(std::move(motion));
-  set.all.push_back(std::make_unique<LidarFrontEnd>(setup, plan, options, ctx, lidar_pool));
+  // One lidar front end per lidar (its own odometry and mount globals), or one for all of them
+  // with lidar.merge_scans (lidar_front_end.hpp); one without lidars refuses their scans.
+  if (options.lidar.merge_scans || plan.lidars.size() <= 1) {
+    set.all.push_back(
+        std::make_unique<LidarFrontEnd>(setup, plan.lidars, options, ctx, lidar_pool));
+  } else {
+    for (const EstimatorSensor* lidar : plan.lidars) {
+      set.all.push_back(std::make_unique<LidarFrontEnd>(
+          setup, std::vector<const EstimatorSensor*>{lidar}, options, ctx, lidar_pool));
+    }
+  }
   set.all.push_back(std::move(gnss));
   set.all.push_back(std::make_unique<BodyVelocityFrontEnd>(setup, options, ctx));
   return set;

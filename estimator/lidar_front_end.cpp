@@ -25,14 +25,15 @@ TimeNs SweepEnd(const LidarScan& scan) {
 
 }  // namespace
 
-LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan& plan,
+LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup,
+                             std::vector<const EstimatorSensor*> lidars,
                              const FactorGraphOptions& options, FrontEndContext& ctx,
                              LidarOdometryPool* pool)
-    : setup_(setup), plan_(plan), options_(options), ctx_(ctx) {
-  if (plan.lidars.empty()) return;
+    : setup_(setup), lidars_(std::move(lidars)), options_(options), ctx_(ctx) {
+  if (lidars_.empty()) return;
   std::vector<LidarMount> mounts;  // in the first lidar's frame
-  const SE3 T_ref_imu = plan.lidars.front()->T_imu_sensor.Inverse();
-  for (const EstimatorSensor* l : plan.lidars) {
+  const SE3 T_ref_imu = lidars_.front()->T_imu_sensor.Inverse();
+  for (const EstimatorSensor* l : lidars_) {
     mounts.push_back({l->id, T_ref_imu * l->T_imu_sensor});
   }
   if (options.lidar.motion_prior != LidarPriorSource::kImu) {
@@ -45,7 +46,7 @@ LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan
     key.intake = intake;
     std::optional<Quat> q_imu_lidar;
     if (options.lidar.motion_prior == LidarPriorSource::kGyro) {
-      q_imu_lidar = plan.lidars.front()->T_imu_sensor.rotation();
+      q_imu_lidar = lidars_.front()->T_imu_sensor.rotation();
       gyro_.emplace();
     }
     shared_ = pool != nullptr
@@ -54,10 +55,10 @@ LidarFrontEnd::LidarFrontEnd(const EstimatorSensorSetup& setup, const FactorPlan
   } else {
     odometry_.emplace(options.lidar.odometry);
   }
-  if (plan.lidars.size() > 1) {
+  if (lidars_.size() > 1) {
     // Several lidars: one merged scan per period in the first lidar's frame.
     LidarScanMergerOptions merge;
-    merge.merged_id = plan.lidars.front()->id;
+    merge.merged_id = lidars_.front()->id;
     merger_.emplace(std::move(mounts), merge);
   }
 }
@@ -83,12 +84,14 @@ void LidarFrontEnd::OnRestart() {
 
 Claim LidarFrontEnd::Claims(const Measurement& m) const {
   if (!std::holds_alternative<LidarScan>(m)) return Claim::kOtherKind;
-  const EstimatorSensor* s = setup_.Find(HeaderOf(m).sensor_id);
-  return s != nullptr && s->kind == SensorKind::kLidar ? Claim::kTaken : Claim::kUnknownSensor;
+  const std::string& id = HeaderOf(m).sensor_id;
+  const EstimatorSensor* s = setup_.Find(id);
+  if (s == nullptr || s->kind != SensorKind::kLidar) return Claim::kUnknownSensor;
+  return lidars_.empty() || Used(id) ? Claim::kTaken : Claim::kOtherKind;
 }
 
 bool LidarFrontEnd::Used(const std::string& id) const {
-  return std::any_of(plan_.lidars.begin(), plan_.lidars.end(),
+  return std::any_of(lidars_.begin(), lidars_.end(),
                      [&](const EstimatorSensor* l) { return l->id == id; });
 }
 
@@ -169,12 +172,12 @@ std::optional<SE3> LidarFrontEnd::PredictedMotion(TimeNs from_ns, TimeNs to_ns) 
 std::optional<SlidingWindowSmoother::MountCorrection> LidarFrontEnd::MountCorrection() {
   const LidarFactorOptions& o = options_.lidar;
   if (!o.estimate_mount) return std::nullopt;
-  return ctx_.MountGlobals(plan_.lidars.front()->id, o.mount_prior_sigma_deg * M_PI / 180.0,
+  return ctx_.MountGlobals(lidars_.front()->id, o.mount_prior_sigma_deg * M_PI / 180.0,
                            o.mount_max_deg * M_PI / 180.0, /*with_roll=*/true);
 }
 
 SE3 LidarFrontEnd::ImuLidar() const {
-  const EstimatorSensor& lidar = *plan_.lidars.front();
+  const EstimatorSensor& lidar = *lidars_.front();
   if (!options_.lidar.estimate_mount) return lidar.T_imu_sensor;
   return SE3(lidar.T_imu_sensor.rotation() * so3::Exp<double>(ctx_.MountEstimate(lidar.id)),
              lidar.T_imu_sensor.translation());
@@ -203,7 +206,7 @@ LidarOdometryResult LidarFrontEnd::Registration(const LidarScan& scan, TimeNs sw
 }
 
 void LidarFrontEnd::RegisterScan(const LidarScan& scan, TimeNs sweep_end_ns) {
-  const EstimatorSensor& lidar = *plan_.lidars.front();
+  const EstimatorSensor& lidar = *lidars_.front();
   const std::string& id = lidar.id;
   const TimeNs t = scan.header.stamp_ns;
   std::optional<SE3> T_prev_curr_imu;

@@ -55,11 +55,17 @@ struct LidarFactorOptions {
   // The lidar's mount rotation against the IMU (the setup's T_imu_lidar is measured by hand):
   // roll, pitch and yaw of the lidar frame (R_imu_lidar Exp(c)) as three globals of the window,
   // prior N(0, sigma^2), held within +-mount_max_deg; the factors' and the IMU prior's X is turned
-  // by them. Several lidars: the first one's frame (the merged scan's). Off: the setup's rotation
-  // is taken as exact. On by default (docs/calibration-states.md).
+  // by them, each lidar's by its own (with merge_scans: the first one's frame, the merged
+  // scan's). Off: the setup's rotation is taken as exact. On by default
+  // (docs/calibration-states.md).
   bool estimate_mount = true;
   double mount_prior_sigma_deg = 1.0;
   double mount_max_deg = 5.0;
+  // Several lidars: merge their scans into one per period in the first lidar's frame through
+  // the setup's mounts and register that (one odometry, one factor per period). Off: each lidar
+  // is registered on its own (its own odometry, factors and mount globals), which does not
+  // depend on the lidars' relative mounts being exact (lidar_front_end.hpp).
+  bool merge_scans = false;
 };
 
 // Kinematic factor (paper): the rear-axle speed V from the speed encoder and the front

@@ -109,7 +109,7 @@ TEST(FrontEnds, EachClaimsItsOwnKindAndSensors) {
   Fixture f;
   GnssFrontEnd gnss(f.setup, f.options, f.ctx);
   EncoderFrontEnd encoders(f.setup, f.plan, f.options, f.ctx);
-  LidarFrontEnd lidar(f.setup, f.plan, f.options, f.ctx);
+  LidarFrontEnd lidar(f.setup, f.plan.lidars, f.options, f.ctx);
   BodyVelocityFrontEnd odometry(f.setup, f.options, f.ctx);
   EXPECT_EQ(gnss.Claims(At<GnssFix>("gnss", 0)), Claim::kTaken);
   EXPECT_EQ(gnss.Claims(At<GnssFix>("speed", 0)), Claim::kUnknownSensor);

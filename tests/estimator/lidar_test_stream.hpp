@@ -32,20 +32,23 @@ inline Scene Surroundings() {
   return s;
 }
 
-// The stream with a scan every 0.1 s over [from_s, to_s) inserted at its arrival time.
-inline std::vector<Measurement> WithScans(const Scenario& sc, double from_s, double to_s) {
+// `stream` with a scan of lidar `id` every 0.1 s over [from_s, to_s) inserted at its arrival
+// time, scanned from the lidar's true mount T_imu_lidar (which a test may set apart from the
+// setup's).
+inline std::vector<Measurement> WithScansOf(const Scenario& sc, std::vector<Measurement> stream,
+                                            const std::string& id, const SE3& T_imu_lidar,
+                                            double from_s, double to_s) {
   const Scene scene = Surroundings();
   ScannerModel model;
   model.columns = 360;
-  std::vector<Measurement> stream = sc.stream;
   for (double t = from_s; t < to_s - 1e-9; t += 0.1) {
     LidarScan scan;
-    scan.header.sensor_id = "lidar_roof";
+    scan.header.sensor_id = id;
     scan.header.stamp_ns = FromSeconds(t);
     scan.header.arrival_ns = FromSeconds(t + 0.12);
     const auto pose = [&](double dt) {
       const NavState x = sc.Truth(FromSeconds(t + dt));
-      return SE3(x.q_world_imu, x.p_world) * kImuLidar;
+      return SE3(x.q_world_imu, x.p_world) * T_imu_lidar;
     };
     scan.points = std::make_shared<std::vector<LidarPoint>>(Scan(scene, pose, model));
     const auto at = std::find_if(stream.begin(), stream.end(), [&](const Measurement& m) {
@@ -54,6 +57,11 @@ inline std::vector<Measurement> WithScans(const Scenario& sc, double from_s, dou
     stream.insert(at, scan);
   }
   return stream;
+}
+
+// The scenario's stream with a scan of lidar_roof (kImuLidar) every 0.1 s over [from_s, to_s).
+inline std::vector<Measurement> WithScans(const Scenario& sc, double from_s, double to_s) {
+  return WithScansOf(sc, sc.stream, "lidar_roof", kImuLidar, from_s, to_s);
 }
 
 }  // namespace statebench::est::testing
