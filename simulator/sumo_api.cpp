@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <mutex>
 #include <stdexcept>
 
 namespace statebench::sim {
@@ -60,12 +59,10 @@ SumoApi* LoadModule() {
 }  // namespace
 
 SumoApi& Sumo() {
-  // Loaded once; a failed load is retried by the next call (the error is thrown each time).
-  static std::mutex mutex;
-  static SumoApi* api = nullptr;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (api == nullptr) api = LoadModule();
-  return *api;
+  // Loaded once (a function-local static: thread-safe, and no lock on the calls after it); a
+  // failed load throws, leaves the static uninitialised, and the next call tries again.
+  static SumoApi& api = *LoadModule();
+  return api;
 }
 
 }  // namespace statebench::sim
