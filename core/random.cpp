@@ -30,9 +30,19 @@ double NormalSampler::operator()(std::mt19937_64& rng) {
   const double u2 = Uniform01(rng);
   const double r = std::sqrt(-2.0 * std::log(u1));
   const double a = 2.0 * std::numbers::pi * u2;
-  spare_ = r * std::sin(a);
+  double sin_a = 0.0;
+  double cos_a = 0.0;
+#if defined(__GLIBC__)
+  // One argument reduction for both; glibc's sincos is its sin and cos (the same code, the same
+  // bits: checked on 2e8 angles).
+  ::sincos(a, &sin_a, &cos_a);
+#else
+  sin_a = std::sin(a);
+  cos_a = std::cos(a);
+#endif
+  spare_ = r * sin_a;
   has_spare_ = true;
-  return r * std::cos(a);
+  return r * cos_a;
 }
 
 }  // namespace statebench
