@@ -73,9 +73,11 @@ class LidarWorld {
   // The same for `count` (1 to kStaticPacketSize) rays walked together (TriangleBvh::CastPacket:
   // the same ranges, cheaper per ray for close rays such as one channel of adjacent columns).
   static constexpr int kStaticPacketSize = TriangleBvh::kPacketSize;
-  void CastStaticPacket(const Vec3* origins_world, const Vec3* unit_directions_world, int count,
-                        double max_range_m, std::optional<RayHit>* hits) const {
-    bvh_->CastPacket(origins_world, unit_directions_world, count, max_range_m, hits);
+  void CastStaticPacket(
+      const Vec3* origins_world, const Vec3* unit_directions_world, int count,
+      double max_range_m, std::optional<RayHit>* hits,
+      TriangleBvh::PacketKernel kernel = TriangleBvh::PacketKernel::kBest) const {
+    bvh_->CastPacket(origins_world, unit_directions_world, count, max_range_m, hits, kernel);
   }
   // The same through the tiles' Bullet BVHs (the reference kernel; same ranges, slower).
   std::optional<RayHit> CastStaticBullet(const Vec3& origin_world,

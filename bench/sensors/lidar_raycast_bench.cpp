@@ -153,8 +153,9 @@ BENCHMARK(BM_Xt32UrbanStaticKernel<false>)->Name("BM_Xt32UrbanStaticKernel/bvh")
 BENCHMARK(BM_Xt32UrbanStaticKernel<true>)->Name("BM_Xt32UrbanStaticKernel/bullet_walk")
     ->Unit(benchmark::kMillisecond);
 
-// CastStaticPacket on the same rays: one channel of four adjacent columns per packet, as the
-// simulation casts them.
+// CastStaticPacket on the same rays: one channel of 25 adjacent columns per packet, as the
+// simulation casts them; the walk the CPU allows (AVX2) or the SSE one.
+template <TriangleBvh::PacketKernel kKernel>
 void BM_Xt32UrbanStaticKernelPacket(benchmark::State& state) {
   const UrbanScene& scene = Scene();
   const LidarWorld& world = *scene.world;
@@ -178,7 +179,7 @@ void BM_Xt32UrbanStaticKernelPacket(benchmark::State& state) {
           origins[k] = ray.first;
           directions[k] = ray.second;
         }
-        world.CastStaticPacket(origins, directions, n, max_range, out);
+        world.CastStaticPacket(origins, directions, n, max_range, out, kKernel);
         for (int k = 0; k < n; ++k) hits += out[k] ? 1 : 0;
       }
     }
@@ -189,7 +190,11 @@ void BM_Xt32UrbanStaticKernelPacket(benchmark::State& state) {
   state.counters["rays_per_cpu_s"] = cast / cpu_seconds;
   state.counters["hits_per_scan"] = static_cast<double>(hits);
 }
-BENCHMARK(BM_Xt32UrbanStaticKernelPacket)->Name("BM_Xt32UrbanStaticKernel/bvh_packet")
+BENCHMARK(BM_Xt32UrbanStaticKernelPacket<TriangleBvh::PacketKernel::kBest>)
+    ->Name("BM_Xt32UrbanStaticKernel/bvh_packet")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Xt32UrbanStaticKernelPacket<TriangleBvh::PacketKernel::kSse>)
+    ->Name("BM_Xt32UrbanStaticKernel/bvh_packet_sse")
     ->Unit(benchmark::kMillisecond);
 
 #ifdef STATEBENCH_HAVE_EMBREE
