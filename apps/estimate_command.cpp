@@ -97,7 +97,9 @@ int RunEstimate(const std::vector<std::string>& argv) {
              args->Flag("full-covariance"));
     double end_s = 0.0;
     if (has_truth) {
-      feed.ScoreAgainstTruth(setup.T_body_imu, {});
+      // The truth of the IMU as it is mounted (as `statebench run` scores), where the log says;
+      // else the setup's mount (a log recorded before the field, or a real one).
+      feed.ScoreAgainstTruth(reader.manifest().truth_imu_mount.value_or(setup.T_body_imu), {});
       feed.WriteDetails(out_dir);
       // Read and scored in blocks: one stage switch per block, not two per sample.
       constexpr std::size_t kTruthBlock = 1024;

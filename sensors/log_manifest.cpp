@@ -1,5 +1,6 @@
 #include "sensors/log_manifest.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <set>
 
@@ -35,6 +36,13 @@ void WriteLogManifest(const std::filesystem::path& file, const LogManifest& m) {
   }
   if (m.setup) y += "setup: " + YamlQuoted(*m.setup) + "\n";
   if (m.truth_csv) y += "truth: " + YamlQuoted(*m.truth_csv) + "\n";
+  if (m.truth_imu_mount) {
+    const Vec3& t = m.truth_imu_mount->translation();
+    const Quat& q = m.truth_imu_mount->rotation();
+    y += "truth_imu_mount: {translation_m: [" + NumberText(t.x()) + ", " + NumberText(t.y()) +
+         ", " + NumberText(t.z()) + "], rotation_wxyz: [" + NumberText(q.w()) + ", " +
+         NumberText(q.x()) + ", " + NumberText(q.y()) + ", " + NumberText(q.z()) + "]}\n";
+  }
   y += "streams:\n";
   for (const LogStreamEntry& s : m.streams) {
     y += "  - {id: " + YamlQuoted(s.id) + ", type: " + std::string(LogStreamTypeName(s.type)) +
@@ -54,7 +62,8 @@ LogManifest ReadLogManifest(const std::filesystem::path& file) {
   const YamlNode root = YamlNode::LoadFile(file);
   root.ExpectMap();
   root.ExpectOnlyKeys(
-      {"format", "version", "scenario", "seed", "origin", "setup", "truth", "streams"});
+      {"format", "version", "scenario", "seed", "origin", "setup", "truth", "truth_imu_mount",
+       "streams"});
   if (root.Get<std::string>("format") != "statebench-log") {
     root["format"].Fail("expected 'statebench-log'");
   }
@@ -77,6 +86,18 @@ LogManifest ReadLogManifest(const std::filesystem::path& file) {
   }
   if (const auto truth = root.Find("truth"); truth && !truth->IsNull()) {
     m.truth_csv = RelativeFile(*truth);
+  }
+  if (const auto mount = root.Find("truth_imu_mount"); mount && !mount->IsNull()) {
+    mount->ExpectOnlyKeys({"translation_m", "rotation_wxyz"});
+    const auto t = (*mount)["translation_m"].As<std::vector<double>>();
+    const auto q = (*mount)["rotation_wxyz"].As<std::vector<double>>();
+    if (t.size() != 3) (*mount)["translation_m"].Fail("expected 3 numbers");
+    if (q.size() != 4) (*mount)["rotation_wxyz"].Fail("expected 4 numbers");
+    const Quat rotation(q[0], q[1], q[2], q[3]);
+    if (!(std::abs(rotation.norm() - 1.0) < 1e-9)) {
+      (*mount)["rotation_wxyz"].Fail("not a unit quaternion");
+    }
+    m.truth_imu_mount = SE3(rotation, Vec3(t[0], t[1], t[2]));
   }
   const YamlNode streams = root["streams"];
   streams.ExpectSequence();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/geodetic.hpp"
+#include "core/se3.hpp"
 #include "sensors/log_format.hpp"
 
 namespace statebench::sensors {
@@ -29,6 +30,10 @@ struct LogManifest {
   std::optional<GeodeticPoint> origin;   // WGS84 anchor of the ENU world
   std::optional<std::string> setup;      // sensor-setup YAML file, relative
   std::optional<std::string> truth_csv;  // relative; truth_body.tum / truth_imu.tum beside it
+  // The IMU's mount the truth's IMU columns were written through (simulated logs: the mount the
+  // simulator used, which with a scenario's `mismatch:` is not the setup file's). Scores of the
+  // log's estimates use it, as `statebench run` does.
+  std::optional<SE3> truth_imu_mount;
   std::vector<LogStreamEntry> streams;   // the reader merges them in this order on ties
 };
 

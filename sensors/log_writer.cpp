@@ -60,6 +60,7 @@ LogWriter::LogWriter(const fs::path& dir, LogWriterOptions options)
   if (options_.truth_T_body_imu) {
     truth_ = std::make_unique<TruthWriter>(dir_, *options_.truth_T_body_imu);
     manifest_.truth_csv = "truth.csv";
+    manifest_.truth_imu_mount = *options_.truth_T_body_imu;
   }
 }
 

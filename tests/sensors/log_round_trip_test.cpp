@@ -116,7 +116,10 @@ TEST(LogRoundTrip, WritesManifestSetupTruthAndEuRocImu) {
   options.seed = 42;
   options.origin = GeodeticPoint{48.7846, 2.136, 130.25};
   options.setup_yaml = "name: test_setup\nsensors: []\n";
-  options.truth_T_body_imu = SE3(Quat::Identity(), Vec3(0.0, 0.0, 0.5));
+  // A mount off the identity by a turn that no short decimal writes exactly.
+  options.truth_T_body_imu =
+      SE3(Quat(Eigen::AngleAxisd(0.0031, Vec3(0.3, -0.2, 0.9).normalized())),
+          Vec3(0.011, -0.0037, 0.5));
   {
     LogWriter writer(dir.path(), options);
     for (const Measurement& m : written) writer.Write(m);
@@ -161,6 +164,10 @@ TEST(LogRoundTrip, WritesManifestSetupTruthAndEuRocImu) {
             "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2],arrival [ns]");
 
   ASSERT_TRUE(m.truth_csv.has_value());
+  // The mount the truth's IMU columns were written through, bit for bit.
+  ASSERT_TRUE(m.truth_imu_mount.has_value());
+  EXPECT_EQ(m.truth_imu_mount->translation(), options.truth_T_body_imu->translation());
+  EXPECT_EQ(m.truth_imu_mount->rotation().coeffs(), options.truth_T_body_imu->rotation().coeffs());
   const TruthReadResult truth = ReadTruthCsv(dir.path() / *m.truth_csv);
   EXPECT_FALSE(truth.error.has_value());
   EXPECT_EQ(truth.samples.size(), 1001u);
