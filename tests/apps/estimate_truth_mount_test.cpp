@@ -15,6 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "tests/removed_at_exit.hpp"
+
 namespace statebench::app {
 namespace {
 
@@ -35,17 +37,10 @@ int Statebench(const std::string& args, const fs::path& log) {
 }
 
 TEST(EstimateTruthMount, RecordedLogIsScoredAgainstTheMountedImuAsRunScoresIt) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("statebench_truth_mount_" + std::to_string(getpid()));
+  const fs::path dir = testing::RemovedAtExit(
+      fs::temp_directory_path() / ("statebench_truth_mount_" + std::to_string(getpid())));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  struct RemoveOnExit {
-    fs::path dir;
-    ~RemoveOnExit() {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-    }
-  } cleanup{dir};
   const std::string scenario = "scenarios/paper/setup2_quadricycle.yaml --seed 11 --duration 15";
   ASSERT_EQ(Statebench("run " + scenario + " --estimators fg_all_sensors --quiet --threads 1 --out " +
                            (dir / "run").string(),
