@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "tests/file_text.hpp"
+
 namespace statebench::app {
 namespace {
 
@@ -38,15 +40,8 @@ class LidarOdometryCacheTest : public ::testing::Test {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 
-  static std::string Read(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-  }
-
   nlohmann::json LidarCounts(const std::string& out) {
-    const nlohmann::json run = nlohmann::json::parse(Read(dir_ / out / "run.json"));
+    const nlohmann::json run = nlohmann::json::parse(testing::FileText(dir_ / out / "run.json"));
     return run["cache"].value("lidar_odometry", nlohmann::json::object());
   }
 
@@ -54,21 +49,21 @@ class LidarOdometryCacheTest : public ::testing::Test {
 };
 
 TEST_F(LidarOdometryCacheTest, ASecondWindowReadsTheRegistrationsAndWritesTheSameEstimate) {
-  ASSERT_EQ(Run("fg_w1_kin", "first", true), 0) << Read(dir_ / "output.log");
+  ASSERT_EQ(Run("fg_w1_kin", "first", true), 0) << testing::FileText(dir_ / "output.log");
   EXPECT_EQ(LidarCounts("first").value("misses", -1), 1);
   EXPECT_EQ(LidarCounts("first").value("hits", -1), 0);
 
-  ASSERT_EQ(Run("fg_w2_kin", "second", true), 0) << Read(dir_ / "output.log");
+  ASSERT_EQ(Run("fg_w2_kin", "second", true), 0) << testing::FileText(dir_ / "output.log");
   EXPECT_EQ(LidarCounts("second").value("hits", -1), 1);
   EXPECT_EQ(LidarCounts("second").value("misses", -1), 0);
 
-  ASSERT_EQ(Run("fg_w2_kin", "fresh", false), 0) << Read(dir_ / "output.log");
-  const std::string fresh = Read(dir_ / "fresh" / "fg_w2_kin" / "estimate.csv");
+  ASSERT_EQ(Run("fg_w2_kin", "fresh", false), 0) << testing::FileText(dir_ / "output.log");
+  const std::string fresh = testing::FileText(dir_ / "fresh" / "fg_w2_kin" / "estimate.csv");
   ASSERT_GT(fresh.size(), 1000u);
-  EXPECT_TRUE(Read(dir_ / "second" / "fg_w2_kin" / "estimate.csv") == fresh);
+  EXPECT_TRUE(testing::FileText(dir_ / "second" / "fg_w2_kin" / "estimate.csv") == fresh);
   // The registrations were used: the lidar's factors are in the estimate's diagnostics.
   const nlohmann::json diagnostics =
-      nlohmann::json::parse(Read(dir_ / "second" / "fg_w2_kin" / "diagnostics.json"));
+      nlohmann::json::parse(testing::FileText(dir_ / "second" / "fg_w2_kin" / "diagnostics.json"));
   EXPECT_GT(diagnostics["sensors"]["lidar_roof"]["events"].value("registered", 0), 4);
 }
 

@@ -17,6 +17,7 @@
 #include "core/random.hpp"
 #include "core/state.hpp"
 #include "sensors/log_writer.hpp"
+#include "tests/file_text.hpp"
 
 namespace statebench::app {
 namespace {
@@ -28,12 +29,7 @@ struct Outcome {
   std::string out, err;
 };
 
-std::string ReadText(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::FileText;
 
 class NoEstimateExit : public ::testing::Test {
  protected:
@@ -49,7 +45,7 @@ class NoEstimateExit : public ::testing::Test {
     const std::string command =
         std::string(STATEBENCH_BIN) + " " + args + " > " + out.string() + " 2> " + err.string();
     const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(out), ReadText(err)};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, FileText(out), FileText(err)};
   }
 
   // 5 s of a vehicle standing still, IMU at 100 Hz with `gyro_sigma` white noise per sample (an
@@ -105,7 +101,7 @@ TEST_F(NoEstimateExit, EstimateSaysWhatEachEstimatorWaitedFor) {
   EXPECT_NE(why.find("no still period of 1 s (quietest window: gyro std 0.0"), std::string::npos)
       << why;
   EXPECT_NE(why.find(" and no GNSS fix"), std::string::npos) << why;
-  const nlohmann::json diag = nlohmann::json::parse(ReadText(dir_ / "fg" / "diagnostics.json"));
+  const nlohmann::json diag = nlohmann::json::parse(FileText(dir_ / "fg" / "diagnostics.json"));
   EXPECT_EQ(diag["initialized"], false);
   EXPECT_EQ(diag["waiting_for"], why);
   EXPECT_TRUE(fs::exists(dir_ / "fg" / "estimate.csv"));
@@ -128,7 +124,7 @@ TEST_F(NoEstimateExit, ImuAndWheelOdometryStartInALocalFrame) {
       Statebench("estimate " + log.string() + " --quiet --out " + (dir_ / "robot_est").string());
   EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
   const nlohmann::json diag =
-      nlohmann::json::parse(ReadText(dir_ / "robot_est" / "diagnostics.json"));
+      nlohmann::json::parse(FileText(dir_ / "robot_est" / "diagnostics.json"));
   EXPECT_EQ(diag["initialization"], "static (local frame)");
   EXPECT_TRUE(diag["waiting_for"].is_null());
   std::ifstream csv(dir_ / "robot_est" / "estimate.csv");
@@ -152,7 +148,7 @@ TEST_F(NoEstimateExit, RunWritesEveryResultAndNamesTheEstimatorsWithoutOne) {
   EXPECT_NE(run.err.find("error: factor_graph never initialised: "), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("error: ekf never initialised: "), std::string::npos) << run.err;
   EXPECT_NE(run.out.find("no estimate: never initialised"), std::string::npos) << run.out;
-  const nlohmann::json summary = nlohmann::json::parse(ReadText(dir_ / "run" / "run.json"));
+  const nlohmann::json summary = nlohmann::json::parse(FileText(dir_ / "run" / "run.json"));
   ASSERT_EQ(summary["estimators"].size(), 2u);
   for (const nlohmann::json& e : summary["estimators"]) {
     EXPECT_TRUE(e.contains("no_estimate")) << e.dump();
@@ -160,7 +156,7 @@ TEST_F(NoEstimateExit, RunWritesEveryResultAndNamesTheEstimatorsWithoutOne) {
     const std::string label = e["label"];
     EXPECT_TRUE(fs::exists(dir_ / "run" / label / "metrics.json"));
     EXPECT_FALSE(
-        nlohmann::json::parse(ReadText(dir_ / "run" / label / "diagnostics.json"))["waiting_for"]
+        nlohmann::json::parse(FileText(dir_ / "run" / label / "diagnostics.json"))["waiting_for"]
             .is_null());
   }
 }

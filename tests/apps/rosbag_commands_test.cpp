@@ -21,6 +21,7 @@
 #include "estimator/estimator_config.hpp"
 #include "sensors/log_reader.hpp"
 #include "sensors/rosbag_topic_map.hpp"
+#include "tests/file_text.hpp"
 
 namespace statebench::app {
 namespace {
@@ -49,12 +50,7 @@ int Statebench(const std::string& args, const fs::path& log) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string Text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::FileText;
 
 nlohmann::json Json(const fs::path& file) {
   std::ifstream in(file);
@@ -75,7 +71,7 @@ TEST(RosbagCommands, Setup2LogThroughABagGivesTheSameMeasurementsAndEstimates) {
   const fs::path out = d / "out.txt";
   // Setup 2 without its `mismatch:`: the importer derives each sensor's latency from the bag
   // (receive time - header stamp), which a simulated clock offset would shift.
-  std::string scenario = Text("scenarios/paper/setup2_quadricycle.yaml");
+  std::string scenario = FileText("scenarios/paper/setup2_quadricycle.yaml");
   const std::size_t from = scenario.find("\nmismatch:");
   ASSERT_NE(from, std::string::npos);
   scenario.erase(from + 1, scenario.find("\n\n", from) - from);
@@ -84,17 +80,17 @@ TEST(RosbagCommands, Setup2LogThroughABagGivesTheSameMeasurementsAndEstimates) {
                            " --duration 5 --quiet --out " + (d / "log").string(),
                        out),
             0)
-      << Text(out);
+      << FileText(out);
   ASSERT_EQ(Statebench("export rosbag " + (d / "log").string() + " --out " +
                            (d / "log.bag").string() + " --topics-out " + (d / "map.yaml").string(),
                        out),
             0)
-      << Text(out);
+      << FileText(out);
   ASSERT_EQ(Statebench("import rosbag " + (d / "log.bag").string() + " --topics " +
                            (d / "map.yaml").string() + " --out " + (d / "back").string(),
                        out),
             0)
-      << Text(out);
+      << FileText(out);
 
   // Every measurement, bit for bit, in the same order.
   const std::vector<Measurement> original = ReadAll(d / "log");
@@ -133,10 +129,10 @@ TEST(RosbagCommands, Setup2LogThroughABagGivesTheSameMeasurementsAndEstimates) {
                                (d / (estimator + "_" + log)).string() + extra,
                            out),
                 0)
-          << Text(out);
+          << FileText(out);
     }
-    const std::string est_a = Text(d / (estimator + "_log") / "estimate.csv");
-    const std::string est_b = Text(d / (estimator + "_back") / "estimate.csv");
+    const std::string est_a = FileText(d / (estimator + "_log") / "estimate.csv");
+    const std::string est_b = FileText(d / (estimator + "_back") / "estimate.csv");
     EXPECT_EQ(est_a, est_b) << estimator;
     std::printf("%s: %zu estimate rows on both logs\n", estimator.c_str(),
                 static_cast<std::size_t>(std::count(est_a.begin(), est_a.end(), '\n')) - 1);
@@ -163,8 +159,8 @@ TEST(RosbagCommands, Setup2LogThroughABagGivesTheSameMeasurementsAndEstimates) {
                            (d / "bad.yaml").string() + " --out " + (d / "bad").string(),
                        out),
             2);
-  EXPECT_NE(Text(out).find("bad.yaml:3:5: topic '/nothere' is not in"), std::string::npos)
-      << Text(out);
+  EXPECT_NE(FileText(out).find("bad.yaml:3:5: topic '/nothere' is not in"), std::string::npos)
+      << FileText(out);
   EXPECT_FALSE(fs::exists(d / "bad"));
 }
 

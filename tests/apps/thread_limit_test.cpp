@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "tests/file_text.hpp"
 #include "tests/removed_at_exit.hpp"
 
 namespace statebench::app {
@@ -21,12 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string FileText(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::FileText;
 
 TEST(ThreadLimit, HoldsForItsLifetime) {
   const std::size_t before = ThreadLimit::Threads();
