@@ -1,11 +1,11 @@
 #include "sensors/log_manifest.hpp"
 
-#include <cmath>
 #include <fstream>
 #include <set>
 
 #include "core/csv.hpp"
 #include "core/error.hpp"
+#include "core/transform_config.hpp"
 #include "core/yaml_node.hpp"
 
 namespace statebench::sensors {
@@ -36,13 +36,7 @@ void WriteLogManifest(const std::filesystem::path& file, const LogManifest& m) {
   }
   if (m.setup) y += "setup: " + YamlQuoted(*m.setup) + "\n";
   if (m.truth_csv) y += "truth: " + YamlQuoted(*m.truth_csv) + "\n";
-  if (m.truth_imu_mount) {
-    const Vec3& t = m.truth_imu_mount->translation();
-    const Quat& q = m.truth_imu_mount->rotation();
-    y += "truth_imu_mount: {translation_m: [" + NumberText(t.x()) + ", " + NumberText(t.y()) +
-         ", " + NumberText(t.z()) + "], rotation_wxyz: [" + NumberText(q.w()) + ", " +
-         NumberText(q.x()) + ", " + NumberText(q.y()) + ", " + NumberText(q.z()) + "]}\n";
-  }
+  if (m.truth_imu_mount) y += "truth_imu_mount: " + TransformYaml(*m.truth_imu_mount) + "\n";
   y += "streams:\n";
   for (const LogStreamEntry& s : m.streams) {
     y += "  - {id: " + YamlQuoted(s.id) + ", type: " + std::string(LogStreamTypeName(s.type)) +
@@ -88,16 +82,7 @@ LogManifest ReadLogManifest(const std::filesystem::path& file) {
     m.truth_csv = RelativeFile(*truth);
   }
   if (const auto mount = root.Find("truth_imu_mount"); mount && !mount->IsNull()) {
-    mount->ExpectOnlyKeys({"translation_m", "rotation_wxyz"});
-    const auto t = (*mount)["translation_m"].As<std::vector<double>>();
-    const auto q = (*mount)["rotation_wxyz"].As<std::vector<double>>();
-    if (t.size() != 3) (*mount)["translation_m"].Fail("expected 3 numbers");
-    if (q.size() != 4) (*mount)["rotation_wxyz"].Fail("expected 4 numbers");
-    const Quat rotation(q[0], q[1], q[2], q[3]);
-    if (!(std::abs(rotation.norm() - 1.0) < 1e-9)) {
-      (*mount)["rotation_wxyz"].Fail("not a unit quaternion");
-    }
-    m.truth_imu_mount = SE3(rotation, Vec3(t[0], t[1], t[2]));
+    m.truth_imu_mount = ParseTransform(*mount);
   }
   const YamlNode streams = root["streams"];
   streams.ExpectSequence();

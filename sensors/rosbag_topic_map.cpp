@@ -170,16 +170,6 @@ std::string Numbers(const double* v, int n) {
   return out + "]";
 }
 
-std::string TransformYaml(const SE3& T) {
-  std::string out = "{translation: " + Numbers(T.translation().data(), 3);
-  const Quat& q = T.rotation();
-  if (q.w() != 1.0 || q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0) {
-    const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
-    out += ", quaternion_wxyz: " + Numbers(wxyz, 4);
-  }
-  return out + "}";
-}
-
 }  // namespace
 
 std::string_view RosTopicKindName(RosTopicKind kind) {

@@ -31,15 +31,7 @@ std::string SensorMountsYaml(const std::string& name, const std::vector<SensorMo
   for (const SensorMount& m : mounts) {
     if (!m.comment.empty()) y += "  # " + m.comment + "\n";
     y += "  - type: " + m.type + "\n    id: " + YamlQuoted(m.id) + "\n";
-    const Vec3& t = m.T_body_sensor.translation();
-    y += "    T_body_sensor: {translation: [" + NumberText(t.x()) + ", " + NumberText(t.y()) + ", " +
-         NumberText(t.z()) + "]";
-    const Quat& q = m.T_body_sensor.rotation();
-    if (q.w() != 1.0 || q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0) {
-      y += ", quaternion_wxyz: [" + NumberText(q.w()) + ", " + NumberText(q.x()) + ", " + NumberText(q.y()) +
-           ", " + NumberText(q.z()) + "]";
-    }
-    y += "}\n";
+    y += "    T_body_sensor: " + TransformYaml(m.T_body_sensor) + "\n";
     if (m.latency_s) y += "    latency_s: " + NumberText(*m.latency_s) + "\n";
   }
   return y;

@@ -84,5 +84,21 @@ TEST(TransformConfig, ParsesRpyAndQuaternion) {
   EXPECT_NE(ErrorOf([&] { ParseTransform(root["c"]); }).find("unit norm"), std::string::npos);
 }
 
+// TransformYaml writes what ParseTransform reads back bit for bit (the identity rotation left out).
+TEST(TransformConfig, WrittenTransformsReadBackBitForBit) {
+  for (const SE3& T :
+       {SE3(Quat(Eigen::AngleAxisd(0.0031, Vec3(0.3, -0.2, 0.9).normalized())),
+            Vec3(0.011, -0.0037, 0.5)),
+        SE3(Quat(Eigen::AngleAxisd(2.5, Vec3(-1.0, 0.4, 0.1).normalized())), Vec3(-3.2, 1e-9, 7)),
+        SE3(Quat::Identity(), Vec3(0.1, 0.2, 0.3))}) {
+    const std::string text = TransformYaml(T);
+    const SE3 back = ParseTransform(YamlNode::LoadString("T: " + text + "\n", "t.yaml")["T"]);
+    EXPECT_EQ(back.translation(), T.translation()) << text;
+    EXPECT_EQ(back.rotation().coeffs(), T.rotation().coeffs()) << text;
+  }
+  EXPECT_EQ(TransformYaml(SE3(Quat::Identity(), Vec3(0.1, 0.2, 0.3))),
+            "{translation: [0.1, 0.2, 0.3]}");
+}
+
 }  // namespace
 }  // namespace statebench
