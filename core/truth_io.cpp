@@ -1,7 +1,5 @@
 #include "core/truth_io.hpp"
 
-#include <cstdio>
-
 #include "core/csv.hpp"
 #include "core/error.hpp"
 
@@ -70,12 +68,16 @@ const std::vector<std::string>& TruthCsvColumns() {
 }
 
 void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame) {
-  char stamp[48];
+  // "[-]sec.nnnnnnnnn" (printf's "%lld.%09lld" without its format parsing).
   const TimeNs sec = t_ns / kNsPerSecond;
   const TimeNs frac = t_ns % kNsPerSecond;
-  std::snprintf(stamp, sizeof(stamp), "%s%lld.%09lld", (t_ns < 0 && sec == 0) ? "-" : "",
-                static_cast<long long>(sec), static_cast<long long>(frac < 0 ? -frac : frac));
-  out += stamp;
+  if (t_ns < 0 && sec == 0) out.push_back('-');
+  AppendNumber(out, sec);
+  char digits[9];
+  TimeNs rest = frac < 0 ? -frac : frac;
+  for (int i = 8; i >= 0; --i, rest /= 10) digits[i] = static_cast<char>('0' + rest % 10);
+  out.push_back('.');
+  out.append(digits, sizeof(digits));
   const Vec3& t = T_world_frame.translation();
   const Quat& q = T_world_frame.rotation();
   for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) {

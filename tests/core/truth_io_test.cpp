@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -195,6 +196,23 @@ TEST(TruthIo, StreamingReaderGivesTheSamplesUpToTheFirstBadRow) {
   EXPECT_FALSE(missing.Next());
   ASSERT_TRUE(missing.error());
   EXPECT_NE(missing.error()->find("cannot open"), std::string::npos);
+}
+
+// The stamp is "[-]sec.nnnnnnnnn", as printf's "%lld.%09lld" wrote it (a minus also before a
+// zero second count).
+TEST(TruthIo, TumStampsAreSecondsWithNineDigits) {
+  for (const TimeNs t : {TimeNs{0}, TimeNs{1}, TimeNs{10160000000}, TimeNs{999999999},
+                         TimeNs{-1}, TimeNs{-500000000}, TimeNs{-1500000000},
+                         TimeNs{123456789012345678}}) {
+    std::string line;
+    AppendTumLine(line, t, SE3());
+    const TimeNs sec = t / kNsPerSecond;
+    const TimeNs frac = t % kNsPerSecond;
+    char expected[48];
+    std::snprintf(expected, sizeof(expected), "%s%lld.%09lld ", (t < 0 && sec == 0) ? "-" : "",
+                  static_cast<long long>(sec), static_cast<long long>(frac < 0 ? -frac : frac));
+    EXPECT_EQ(line.substr(0, line.find(' ') + 1), expected) << t;
+  }
 }
 
 }  // namespace
