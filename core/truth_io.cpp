@@ -67,7 +67,7 @@ const std::vector<std::string>& TruthCsvColumns() {
   return columns;
 }
 
-void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame) {
+void AppendTumStamp(std::string& out, TimeNs t_ns) {
   // "[-]sec.nnnnnnnnn" (printf's "%lld.%09lld" without its format parsing).
   const TimeNs sec = t_ns / kNsPerSecond;
   const TimeNs frac = t_ns % kNsPerSecond;
@@ -78,6 +78,10 @@ void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame) {
   for (int i = 8; i >= 0; --i, rest /= 10) digits[i] = static_cast<char>('0' + rest % 10);
   out.push_back('.');
   out.append(digits, sizeof(digits));
+}
+
+void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame) {
+  AppendTumStamp(out, t_ns);
   const Vec3& t = T_world_frame.translation();
   const Quat& q = T_world_frame.rotation();
   for (const double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) {

@@ -37,5 +37,7 @@ class TruthWriter {
 
 // Appends one TUM line: seconds with 9 decimals, then position and quaternion (x y z w).
 void AppendTumLine(std::string& out, TimeNs t_ns, const SE3& T_world_frame);
+// The line's first field alone: "[-]sec.nnnnnnnnn".
+void AppendTumStamp(std::string& out, TimeNs t_ns);
 
 }  // namespace statebench

@@ -1,5 +1,8 @@
 #include "reports/estimate_writer.hpp"
 
+#include <bit>
+#include <cstdint>
+
 #include "core/csv.hpp"
 #include "core/error.hpp"
 #include "core/truth_io.hpp"
@@ -55,11 +58,19 @@ void EstimateWriter::Write(const StateEstimate& e) {
     o.push_back(',');
     AppendNumber(o, v);
   };
-  for (int i = 0; i < 3; ++i) add(s.p_world[i]);
+  // Where the text of p_x p_y p_z q_w q_x q_y q_z starts in o; the TUM line reuses it.
+  std::array<std::size_t, 8> pose_text;
+  std::size_t n = 0;
+  for (int i = 0; i < 3; ++i) {
+    pose_text[n++] = o.size() + 1;
+    add(s.p_world[i]);
+  }
   for (const double c : {s.q_world_imu.w(), s.q_world_imu.x(), s.q_world_imu.y(),
                          s.q_world_imu.z()}) {
+    pose_text[n++] = o.size() + 1;
     add(c);
   }
+  pose_text[n] = o.size() + 1;
   for (int i = 0; i < 3; ++i) add(s.v_world[i]);
   for (int i = 0; i < 3; ++i) add(s.gyro_bias[i]);
   for (int i = 0; i < 3; ++i) add(s.accel_bias[i]);
@@ -75,8 +86,30 @@ void EstimateWriter::Write(const StateEstimate& e) {
     }
   }
   o.push_back('\n');
-  AppendTumLine(tum_buf_, s.t_ns, SE3(s.q_world_imu, s.p_world));
+  AppendTum(s, pose_text);
   if (csv_buf_.size() > (1u << 20)) Flush();
+}
+
+// The TUM line writes the pose as SE3 keeps it; where those are the CSV's doubles bit for bit
+// (SE3 normalises only a quaternion that is not unit), their text is copied, not made again.
+void EstimateWriter::AppendTum(const NavState& s, const std::array<std::size_t, 8>& pose_text) {
+  const SE3 T(s.q_world_imu, s.p_world);
+  const Quat& q = T.rotation();
+  const auto same = [](double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+  };
+  if (!same(q.w(), s.q_world_imu.w()) || !same(q.x(), s.q_world_imu.x()) ||
+      !same(q.y(), s.q_world_imu.y()) || !same(q.z(), s.q_world_imu.z())) {
+    AppendTumLine(tum_buf_, s.t_ns, T);
+    return;
+  }
+  AppendTumStamp(tum_buf_, s.t_ns);
+  // TUM's order: p_x p_y p_z q_x q_y q_z q_w (CSV columns 0-2, 4-6, 3).
+  for (const int c : {0, 1, 2, 4, 5, 6, 3}) {
+    tum_buf_.push_back(' ');
+    tum_buf_.append(csv_buf_, pose_text[c], pose_text[c + 1] - 1 - pose_text[c]);
+  }
+  tum_buf_.push_back('\n');
 }
 
 void EstimateWriter::Flush() {

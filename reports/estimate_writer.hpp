@@ -3,6 +3,7 @@
 // docs/estimate-format.md.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -19,6 +20,8 @@ class EstimateWriter {
   void Close();  // throws InputError when writing failed
 
  private:
+  // The TUM line of s; pose_text holds where p and q's text starts in csv_buf_ (and one past).
+  void AppendTum(const NavState& s, const std::array<std::size_t, 8>& pose_text);
   void Flush();
   std::filesystem::path dir_;
   bool full_covariance_;
