@@ -1,7 +1,6 @@
 #include "reports/estimate_writer.hpp"
 
-#include <bit>
-#include <cstdint>
+#include <cstring>
 
 #include "core/csv.hpp"
 #include "core/error.hpp"
@@ -95,11 +94,7 @@ void EstimateWriter::Write(const StateEstimate& e) {
 void EstimateWriter::AppendTum(const NavState& s, const std::array<std::size_t, 8>& pose_text) {
   const SE3 T(s.q_world_imu, s.p_world);
   const Quat& q = T.rotation();
-  const auto same = [](double a, double b) {
-    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-  };
-  if (!same(q.w(), s.q_world_imu.w()) || !same(q.x(), s.q_world_imu.x()) ||
-      !same(q.y(), s.q_world_imu.y()) || !same(q.z(), s.q_world_imu.z())) {
+  if (std::memcmp(q.coeffs().data(), s.q_world_imu.coeffs().data(), 4 * sizeof(double)) != 0) {
     AppendTumLine(tum_buf_, s.t_ns, T);
     return;
   }
