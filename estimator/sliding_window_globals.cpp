@@ -43,7 +43,7 @@ int SlidingWindowSmoother::AddGlobal(const std::string& name, double prior_sigma
   }
   Impl::Global g{name, max_abs, std::make_unique<double>(0.0), prior_sigma, 0, prior_sigma,
                  correlation_time_s.value_or(0.0)};
-  m.problem.AddParameterBlock(g.value.get(), 1);
+  if (m.problem) m.problem->AddParameterBlock(g.value.get(), 1);
   // Anchored at the oldest state: the prior enters the marginalisation prior when it leaves.
   Impl::Node& anchor = *m.states.front();
   double* block = g.value.get();

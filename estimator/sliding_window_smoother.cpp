@@ -209,7 +209,7 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
   // globals): the first state to leave needs no linearisation of its own.
   std::optional<LinearSystem> oldest_linearized;
   if (m.options.solver == WindowSolver::kCeres) {
-    SolveWindowWithCeres(m.problem, m.options, &out);
+    SolveWindowWithCeres(*m.problem, m.options, &out);
     if (!m.globals.empty() && out.usable) newest_information = m.UpdateGlobals(nullptr);
   } else {
     const std::vector<double*> globals = m.GlobalBlocks();
