@@ -132,6 +132,13 @@ class FrontEndContext {
     const std::vector<NavState> window = smoother.WindowStates();
     return output.InWindow(t_ns, window);
   }
+  // PredictAt's mean and the velocity block of its covariance alone, the same bits.
+  std::optional<PropagatedVelocity> PredictVelocityAt(TimeNs t_ns) const {
+    if (const auto p = output.VelocityAfterAnchor(t_ns)) return p;
+    if (!output.has_anchor() || t_ns > newest_imu_ns) return std::nullopt;
+    const std::vector<NavState> window = smoother.WindowStates();
+    return output.VelocityInWindow(t_ns, window);
+  }
   // PredictAt's mean alone, the same bits, without carrying the covariance where it can be
   // left out (after the anchor), for the front ends that read only the mean.
   std::optional<NavState> PredictMeanAt(TimeNs t_ns) const {

@@ -36,6 +36,16 @@ Mat3Blocks<5, 5> TransitionBlocks(const NavState& state_i, const ImuPreintegrati
   return F;
 }
 
+// G (15x9) from the preintegration noise (rotation, velocity, position) to the state.
+Mat3Blocks<5, 3> NoiseBlocks(const NavState& state_i) {
+  const Mat3 R_i = state_i.q_world_imu.toRotationMatrix();
+  Mat3Blocks<5, 3> G;
+  G.SetIdentity(kRotationBlock, kPreintRotation / 3);
+  G.SetGeneral(kVelocityBlock, kPreintVelocity / 3, R_i);
+  G.SetGeneral(kPositionBlock, kPreintPosition / 3, R_i);
+  return G;
+}
+
 }  // namespace
 
 Mat15 PropagationJacobian(const NavState& state_i, const ImuPreintegration& pim) {
@@ -51,20 +61,30 @@ PropagatedState Propagate(const NavState& state_i, const Mat15& covariance_i,
     return out;
   }
   out.state = pim.Predict(state_i);
-  const Mat3 R_i = state_i.q_world_imu.toRotationMatrix();
-  // G (15x9) from the preintegration noise (rotation, velocity, position) to the state.
-  Mat3Blocks<5, 3> G;
-  G.SetIdentity(kRotationBlock, kPreintRotation / 3);
-  G.SetGeneral(kVelocityBlock, kPreintVelocity / 3, R_i);
-  G.SetGeneral(kPositionBlock, kPreintPosition / 3, R_i);
   Mat15 P = TransitionBlocks(state_i, pim).Congruence(covariance_i) +
-            G.Congruence(pim.covariance());
+            NoiseBlocks(state_i).Congruence(pim.covariance());
   const ImuNoise& n = pim.noise();
   P.block<3, 3>(kGyroBiasIndex, kGyroBiasIndex).diagonal().array() +=
       n.gyro_random_walk * n.gyro_random_walk * pim.dt();
   P.block<3, 3>(kAccelBiasIndex, kAccelBiasIndex).diagonal().array() +=
       n.accel_random_walk * n.accel_random_walk * pim.dt();
   out.covariance = P;  // exactly symmetric (Mat3Blocks::Congruence)
+  return out;
+}
+
+PropagatedVelocity PropagateVelocity(const NavState& state_i, const Mat15& covariance_i,
+                                     const ImuPreintegration& pim) {
+  PropagatedVelocity out;
+  if (pim.empty()) {
+    out.state = state_i;
+    out.velocity_covariance = covariance_i.block<3, 3>(kVelocityIndex, kVelocityIndex);
+    return out;
+  }
+  out.state = pim.Predict(state_i);
+  // Propagate's sum, block (v, v); the bias random walk does not reach it.
+  out.velocity_covariance =
+      TransitionBlocks(state_i, pim).CongruenceDiagonalBlock(covariance_i, kVelocityBlock) +
+      NoiseBlocks(state_i).CongruenceDiagonalBlock(pim.covariance(), kVelocityBlock);
   return out;
 }
 

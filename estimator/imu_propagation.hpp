@@ -33,4 +33,13 @@ Mat15 PropagationJacobian(const NavState& state_i, const ImuPreintegration& prei
 PropagatedState Propagate(const NavState& state_i, const Mat15& covariance_i,
                           const ImuPreintegration& preintegration);
 
+// Propagate's mean and the velocity block of its covariance alone, the same bits: for the tests
+// that read no other block (the standstill test), a fifth of the covariance's arithmetic.
+struct PropagatedVelocity {
+  NavState state;
+  Mat3 velocity_covariance = Mat3::Zero();
+};
+PropagatedVelocity PropagateVelocity(const NavState& state_i, const Mat15& covariance_i,
+                                     const ImuPreintegration& preintegration);
+
 }  // namespace statebench::est

@@ -18,6 +18,7 @@ It LatestAtOrBefore(It begin, It end, TimeNs t_ns, Stamp stamp) {
 void ImuRateOutput::AddImu(const ImuSample& sample) {
   imu_.push_back(sample);
   if (running_) running_->Integrate(sample);
+  last_after_anchor_.reset();
 }
 
 ImuPreintegration ImuRateOutput::Preintegrate(const NavState& from, TimeNs t_ns) const {
@@ -30,6 +31,7 @@ void ImuRateOutput::SetAnchor(const PropagatedState& anchor) {
   anchors_.push_back(anchor);
   running_ = Preintegrate(anchor.state, imu_.back().header.stamp_ns);
   cursor_.reset();
+  last_after_anchor_.reset();
 }
 
 bool ImuRateOutput::IsSampleStamp(TimeNs t_ns) const {
@@ -59,12 +61,25 @@ NavState ImuRateOutput::Carry(const NavState& from, TimeNs t_ns) const {
   return t_ns == from.t_ns ? from : Preintegrate(from, t_ns).Predict(from);
 }
 
-std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
+template <typename Propagated>
+std::optional<Propagated> ImuRateOutput::AfterAnchorWith(
+    TimeNs t_ns,
+    Propagated (*propagate)(const NavState&, const Mat15&, const ImuPreintegration&)) const {
   if (!anchor_ || t_ns < anchor_->state.t_ns || t_ns > imu_.back().header.stamp_ns) {
     return std::nullopt;
   }
-  if (t_ns == running_->end_ns()) return Propagate(anchor_->state, anchor_->covariance, *running_);
-  return Propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns));
+  if (t_ns == running_->end_ns()) return propagate(anchor_->state, anchor_->covariance, *running_);
+  return propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns));
+}
+
+std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
+  if (last_after_anchor_ && last_after_anchor_->state.t_ns == t_ns) return last_after_anchor_;
+  last_after_anchor_ = AfterAnchorWith(t_ns, &Propagate);
+  return last_after_anchor_;
+}
+
+std::optional<PropagatedVelocity> ImuRateOutput::VelocityAfterAnchor(TimeNs t_ns) const {
+  return AfterAnchorWith(t_ns, &PropagateVelocity);
 }
 
 std::optional<NavState> ImuRateOutput::MeanAfterAnchor(TimeNs t_ns) const {
@@ -76,21 +91,34 @@ std::optional<NavState> ImuRateOutput::MeanAfterAnchor(TimeNs t_ns) const {
   return pim.empty() ? anchor_->state : pim.Predict(anchor_->state);
 }
 
-std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,
-                                                       std::span<const NavState> window) const {
+template <typename Propagated>
+std::optional<Propagated> ImuRateOutput::InWindowWith(
+    TimeNs t_ns, std::span<const NavState> window,
+    Propagated (*propagate)(const NavState&, const Mat15&, const ImuPreintegration&)) const {
   if (anchors_.empty() || imu_.empty() || t_ns < imu_.front().header.stamp_ns) return std::nullopt;
   const auto from = LatestAtOrBefore(window.begin(), window.end(), t_ns,
                                      [](const NavState& s) { return s.t_ns; });
   if (from == window.end()) return std::nullopt;
   auto cov = LatestAtOrBefore(anchors_.begin(), anchors_.end(), t_ns,
                               [](const PropagatedState& s) { return s.state.t_ns; });
-  PropagatedState out;
-  out.state = Carry(*from, t_ns);
-  out.covariance =
+  // Before the first anchor held, its covariance as it is (propagated over an empty interval).
+  Propagated out =
       cov == anchors_.end()
-          ? anchors_.front().covariance  // before the first anchor held
-          : Propagate(cov->state, cov->covariance, Preintegrate(cov->state, t_ns)).covariance;
+          ? propagate(anchors_.front().state, anchors_.front().covariance,
+                      ImuPreintegration(noise_, ImuBias{}))
+          : propagate(cov->state, cov->covariance, Preintegrate(cov->state, t_ns));
+  out.state = Carry(*from, t_ns);
   return out;
+}
+
+std::optional<PropagatedState> ImuRateOutput::InWindow(TimeNs t_ns,
+                                                       std::span<const NavState> window) const {
+  return InWindowWith(t_ns, window, &Propagate);
+}
+
+std::optional<PropagatedVelocity> ImuRateOutput::VelocityInWindow(
+    TimeNs t_ns, std::span<const NavState> window) const {
+  return InWindowWith(t_ns, window, &PropagateVelocity);
 }
 
 std::optional<NavState> ImuRateOutput::MeanAt(TimeNs t_ns,

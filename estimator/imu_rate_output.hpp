@@ -29,7 +29,10 @@ class ImuRateOutput {
  public:
   explicit ImuRateOutput(const ImuNoise& noise) : noise_(noise) {}
   // The noise of propagations from now on (imu_noise_monitor.hpp).
-  void SetNoise(const ImuNoise& noise) { noise_ = noise; }
+  void SetNoise(const ImuNoise& noise) {
+    noise_ = noise;
+    last_after_anchor_.reset();
+  }
 
   // An accepted raw sample; stamps must increase.
   void AddImu(const ImuSample& sample);
@@ -46,6 +49,11 @@ class ImuRateOutput {
   // At t_ns before the anchor, from the smoothed window states (oldest first); nullopt if t_ns
   // is before the first of them or the samples held.
   std::optional<PropagatedState> InWindow(TimeNs t_ns, std::span<const NavState> window) const;
+  // AfterAnchor and InWindow with the velocity block of the covariance alone (the same bits;
+  // PropagateVelocity).
+  std::optional<PropagatedVelocity> VelocityAfterAnchor(TimeNs t_ns) const;
+  std::optional<PropagatedVelocity> VelocityInWindow(TimeNs t_ns,
+                                                     std::span<const NavState> window) const;
   // The mean alone, as AfterAnchor or else InWindow give it (no covariance propagated).
   std::optional<NavState> MeanAt(TimeNs t_ns, std::span<const NavState> window) const;
   // Mean of `from` carried to t_ns >= from.t_ns (biases kept).
@@ -56,6 +64,15 @@ class ImuRateOutput {
 
  private:
   ImuPreintegration Preintegrate(const NavState& from, TimeNs t_ns) const;
+  // AfterAnchor and InWindow with `propagate` (Propagate or PropagateVelocity).
+  template <typename Propagated>
+  std::optional<Propagated> AfterAnchorWith(TimeNs t_ns,
+                                            Propagated (*propagate)(const NavState&, const Mat15&,
+                                                                    const ImuPreintegration&)) const;
+  template <typename Propagated>
+  std::optional<Propagated> InWindowWith(TimeNs t_ns, std::span<const NavState> window,
+                                         Propagated (*propagate)(const NavState&, const Mat15&,
+                                                                 const ImuPreintegration&)) const;
   // The preintegration from the anchor to t_ns, through the cursor when t_ns is a sample stamp.
   const ImuPreintegration& FromAnchorTo(TimeNs t_ns) const;
   bool IsSampleStamp(TimeNs t_ns) const;
@@ -68,6 +85,9 @@ class ImuRateOutput {
   // queries are const: this cache is the only state they change.
   mutable std::optional<ImuPreintegration> cursor_;
   std::deque<PropagatedState> anchors_;       // earlier anchors, for stamps inside the window
+  // AfterAnchor's last answer, until the next sample, anchor or noise: the estimator asks for
+  // the newest sample twice after an update (MoveAnchor's blend, then the output).
+  mutable std::optional<PropagatedState> last_after_anchor_;
 };
 
 }  // namespace statebench::est

@@ -54,16 +54,22 @@ class Mat3Blocks {
     // M = F P, block by block.
     std::array<std::array<Mat3, Cols>, Rows> M;
     for (int i = 0; i < Rows; ++i) {
-      for (int j = 0; j < Cols; ++j) {
-        bool any = false;
-        for (int k = 0; k < Cols; ++k) {
-          if (kind_[i][k] == Kind::kZero) continue;
-          Accumulate(&M[i][j], Times(i, k, P.template block<3, 3>(3 * k, 3 * j)), &any);
-        }
-        if (!any) M[i][j].setZero();
-      }
+      for (int j = 0; j < Cols; ++j) M[i][j] = RowTimes(i, P, j);
     }
     return TimesTransposed(M, /*skip_zero_left=*/false);
+  }
+
+  // Diagonal block (a, a) of Congruence(P) alone, the same bits: block row a of F P, times F's
+  // block row a transposed, symmetrised.
+  Mat3 CongruenceDiagonalBlock(const ColSquare& P, int a) const {
+    std::array<Mat3, Cols> M_a;
+    for (int j = 0; j < Cols; ++j) M_a[j] = RowTimes(a, P, j);
+    Mat3 C_aa;
+    bool any = false;
+    for (int j = 0; j < Cols; ++j) {
+      if (kind_[a][j] != Kind::kZero) Accumulate(&C_aa, TimesTransposed(M_a[j], a, j), &any);
+    }
+    return any ? Mat3(0.5 * (C_aa + C_aa.transpose())) : Mat3::Zero();
   }
 
   // s F F^T (a congruence of s I), exactly symmetric.
@@ -121,6 +127,17 @@ class Mat3Blocks {
   Mat3 Block(int i, int j) const {
     if (kind_[i][j] == Kind::kZero) return Mat3::Zero();
     return kind_[i][j] == Kind::kGeneral ? block_[i][j] : Mat3(scale_[i][j] * Mat3::Identity());
+  }
+
+  // Block (i, j) of F P.
+  Mat3 RowTimes(int i, const ColSquare& P, int j) const {
+    Mat3 M_ij;
+    bool any = false;
+    for (int k = 0; k < Cols; ++k) {
+      if (kind_[i][k] == Kind::kZero) continue;
+      Accumulate(&M_ij, Times(i, k, P.template block<3, 3>(3 * k, 3 * j)), &any);
+    }
+    return any ? M_ij : Mat3::Zero();
   }
 
   // F_ik X.

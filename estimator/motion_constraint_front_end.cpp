@@ -88,10 +88,10 @@ std::optional<double> MotionConstraintFrontEnd::StandingStill(TimeNs t_ns) const
   // The covariance only where the test reads it (no Doppler).
   const std::optional<double> sigma = ZeroVelocitySigmaWithoutEncoder(
       z, gnss_.doppler().Mean(t_ns - FromSeconds(z.doppler_window_s), t_ns), [&] {
-        const PropagatedState p = *ctx_.PredictAt(t_ns);
+        const PropagatedVelocity p = *ctx_.PredictVelocityAt(t_ns);
         const Vec3& v = p.state.v_world;
-        return EstimatedSpeedNearZero(
-            v.head<2>(), v.z(), p.covariance.block<2, 2>(kVelocityIndex, kVelocityIndex), z);
+        return EstimatedSpeedNearZero(v.head<2>(), v.z(),
+                                      p.velocity_covariance.topLeftCorner<2, 2>(), z);
       });
   if (!sigma) return std::nullopt;
   const Vec3 acceleration = x->q_world_imu * (mean_a - x->accel_bias) + kGravityWorld;

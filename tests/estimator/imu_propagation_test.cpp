@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include "core/so3.hpp"
@@ -94,6 +96,27 @@ TEST(ImuPropagation, CovarianceAddsThePreintegrationNoiseInTheWorldFrame) {
   const PropagatedState q = Propagate(f.start, P0, f.pim);
   EXPECT_TRUE((q.covariance - p.covariance).isApprox(F * P0 * F.transpose(), 1e-10));
   EXPECT_EQ(q.state.t_ns, f.pim.end_ns());
+}
+
+// The standstill test's shortcut computes the velocity block alone; it must be Propagate's block
+// bit for bit (a full, correlated covariance, and the empty interval).
+TEST(ImuPropagation, VelocityAloneIsPropagatesVelocityBlockBitForBit) {
+  const Fixture f;
+  Mat15 A;
+  for (int r = 0; r < 15; ++r) {
+    for (int c = 0; c < 15; ++c) A(r, c) = std::sin(1.0 + r + 0.37 * c * c);
+  }
+  const Mat15 P0 = 1e-3 * (A * A.transpose() + Mat15::Identity());
+  const Mat15 P0_rounded = 0.5 * (P0 + P0.transpose());
+  for (const ImuPreintegration& pim : {f.pim, ImuPreintegration(ImuNoise{}, ImuBias{})}) {
+    const PropagatedState full = Propagate(f.start, P0_rounded, pim);
+    const PropagatedVelocity v = PropagateVelocity(f.start, P0_rounded, pim);
+    const Mat3 expected = full.covariance.block<3, 3>(kVelocityIndex, kVelocityIndex);
+    EXPECT_EQ(std::memcmp(v.velocity_covariance.data(), expected.data(), sizeof(Mat3)), 0)
+        << v.velocity_covariance << "\nvs\n" << expected;
+    EXPECT_EQ(std::memcmp(v.state.v_world.data(), full.state.v_world.data(), sizeof(Vec3)), 0);
+    EXPECT_EQ(v.state.t_ns, full.state.t_ns);
+  }
 }
 
 }  // namespace
