@@ -21,7 +21,7 @@ std::string_view Trim(std::string_view s) {
 void AppendNumber(std::string& out, double value) {
   char buf[32];
   const auto res = std::to_chars(buf, buf + sizeof(buf), value);
-  out.append(buf, res.ptr);
+  out.append(buf, static_cast<std::size_t>(res.ptr - buf));  // not the iterator overload: replace()
 }
 
 std::string NumberText(double value) {
@@ -48,7 +48,7 @@ std::string YamlQuoted(std::string_view s) {
 void AppendNumber(std::string& out, std::int64_t value) {
   char buf[24];
   const auto res = std::to_chars(buf, buf + sizeof(buf), value);
-  out.append(buf, res.ptr);
+  out.append(buf, static_cast<std::size_t>(res.ptr - buf));  // not the iterator overload: replace()
 }
 
 std::vector<std::string_view> SplitCsvLine(std::string_view line) {

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "core/csv.hpp"
 #include "core/truth_io.hpp"
 #include "tests/file_text.hpp"
 #include "tests/removed_at_exit.hpp"
@@ -40,6 +44,47 @@ TEST(EstimateWriter, TumLinesAreThoseOfTheSe3Pose) {
     AppendTumLine(expected, e.state.t_ns, SE3(e.state.q_world_imu, e.state.p_world));
   }
   EXPECT_EQ(testing::FileText(dir / "estimate.tum"), expected);
+}
+
+// A row copies the previous row's bias text when the biases are the same bits: every row's bias
+// columns must still be its own (unchanged, changed, back, and +0 after -0).
+TEST(EstimateWriter, BiasColumnsAreEachRowsOwn) {
+  const auto dir = testing::RemovedAtExit(std::filesystem::temp_directory_path() /
+                                          "statebench_estimate_writer_bias");
+  const std::vector<std::pair<Vec3, Vec3>> biases{
+      {Vec3(1e-3, -2e-3, 5e-4), Vec3(0.05, -0.02, 0.03)},
+      {Vec3(1e-3, -2e-3, 5e-4), Vec3(0.05, -0.02, 0.03)},
+      {Vec3(1e-3, -2e-3, 5.000000000000001e-4), Vec3(0.05, -0.02, 0.03)},
+      {Vec3(1e-3, -2e-3, 5e-4), Vec3(0.05, -0.02, 0.03)},
+      {Vec3(-0.0, 0.0, 0.0), Vec3::Zero()},
+      {Vec3(0.0, 0.0, 0.0), Vec3::Zero()},
+      {Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 7.0)}};
+  {
+    EstimateWriter writer(dir, /*full_covariance=*/false);
+    StateEstimate e;
+    for (const auto& [bg, ba] : biases) {
+      e.state.t_ns += 10000000;
+      e.state.gyro_bias = bg;
+      e.state.accel_bias = ba;
+      writer.Write(e);
+    }
+    writer.Close();
+  }
+  std::istringstream csv(testing::FileText(dir / "estimate.csv"));
+  std::string line;
+  std::getline(csv, line);  // header
+  for (const auto& [bg, ba] : biases) {
+    ASSERT_TRUE(std::getline(csv, line));
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GT(cells.size(), 16u);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(cells[11 + i], NumberText(bg[i])) << line;
+      EXPECT_EQ(cells[14 + i], NumberText(ba[i])) << line;
+    }
+  }
+  EXPECT_FALSE(std::getline(csv, line));
 }
 
 }  // namespace
