@@ -26,6 +26,8 @@ struct ImuNoise {
   // True if every value is finite and positive (integration_density may be zero). On failure
   // writes the offending field to *why when why is not null.
   bool IsValid(std::string* why = nullptr) const;
+
+  bool operator==(const ImuNoise&) const = default;
 };
 
 }  // namespace statebench::est

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <functional>
 #include <initializer_list>
@@ -100,6 +101,10 @@ struct SlidingWindowSmoother::Impl {
   std::unique_ptr<ceres::Problem> problem;
   std::deque<std::unique_ptr<Node>> states;
   std::vector<ImuSample> imu;  // raw samples from the oldest state's stamp on
+  // The newest state's preintegration to the newest sample, at the state's values when it was
+  // integrated: the next IMU factor and the factors on the newest state at the newest sample's
+  // stamp (velocity, GNSS) share its steps instead of each integrating them again.
+  std::optional<ImuPreintegration> from_newest;
   int samples_since_state = 0;
   // A factor whose measurement is newer than the newest IMU sample: it waits until the IMU
   // reaches ready_ns, then hangs on the latest state at or before anchor_ns.
@@ -177,14 +182,52 @@ struct SlidingWindowSmoother::Impl {
   }
 
   ImuPreintegration Preintegrate(const Node& from, TimeNs t_end_ns) const {
+    if (const ImuPreintegration* p = FromNewestTo(from, t_end_ns)) return *p;
+    return PreintegrateSamples(from, t_end_ns);
+  }
+
+  ImuPreintegration PreintegrateSamples(const Node& from, TimeNs t_end_ns) const {
     const NavState s = from.State();
     return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu), from.t_ns, t_end_ns,
                                           options.imu_noise, ImuBias{s.gyro_bias, s.accel_bias});
   }
 
+  // from_newest, when it is the preintegration FromSamples would give from `from` to t_end_ns:
+  // `from` is the newest state, at the values and noise it was integrated with.
+  const ImuPreintegration* FromNewestTo(const Node& from, TimeNs t_end_ns) const {
+    if (!from_newest || &from != states.back().get() || from_newest->end_ns() != t_end_ns ||
+        !FromNewestCurrent()) {
+      return nullptr;
+    }
+    return &*from_newest;
+  }
+
+  bool FromNewestCurrent() const {
+    const Node& n = *states.back();
+    const ImuBias& b = from_newest->bias_lin();
+    return from_newest->start_ns() == n.t_ns && from_newest->noise() == options.imu_noise &&
+           std::memcmp(b.gyro.data(), n.x.bias.data(), 3 * sizeof(double)) == 0 &&
+           std::memcmp(b.accel.data(), n.x.bias.data() + 3, 3 * sizeof(double)) == 0;
+  }
+
+  // After a sample joined the buffer: from_newest extended to it (the same integration steps as
+  // FromSamples from the newest state, as ImuRateOutput's cursor), or integrated again from the
+  // newest state when that moved (a solve), the noise changed or a sample was skipped.
+  void ExtendFromNewest() {
+    const TimeNs t_ns = imu.back().header.stamp_ns;
+    if (from_newest && imu.size() >= 2 &&
+        from_newest->end_ns() == imu[imu.size() - 2].header.stamp_ns && FromNewestCurrent()) {
+      from_newest->Integrate(imu.back());
+    } else {
+      from_newest = PreintegrateSamples(*states.back(), t_ns);
+    }
+  }
+
   void CreateState(TimeNs t_ns) {
     Node& prev = *states.back();
-    ImuPreintegration pim = Preintegrate(prev, t_ns);
+    ImuPreintegration pim = FromNewestTo(prev, t_ns) != nullptr ? std::move(*from_newest)
+                                                                : PreintegrateSamples(prev, t_ns);
+    from_newest.reset();
     auto node = std::make_unique<Node>();
     node->t_ns = t_ns;
     node->x = StateParameters::FromNavState(pim.Predict(prev.State()));

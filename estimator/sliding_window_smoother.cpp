@@ -65,6 +65,7 @@ void SlidingWindowSmoother::AddImu(const ImuSample& sample) {
     return;
   }
   m.imu.push_back(sample);
+  m.ExtendFromNewest();
   if (m.options.keep_all_states || m.options.keep_lagged_states) m.all_imu.push_back(sample);
   if (++m.samples_since_state >= m.options.imu_samples_per_state) {
     m.CreateState(sample.header.stamp_ns);

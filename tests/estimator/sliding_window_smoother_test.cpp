@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 #include <memory>
+#include <span>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
@@ -13,6 +15,7 @@
 #include "estimator/dual_antenna_factor.hpp"
 #include "estimator/gnss_propagated_position_factor.hpp"
 #include "estimator/imu_factor.hpp"
+#include "estimator/imu_preintegration.hpp"
 #include "estimator/marginalization_prior.hpp"
 #include "estimator/so3_manifold.hpp"
 #include "estimator/state_parameters.hpp"
@@ -170,6 +173,58 @@ void CheckNoiseFreeTracking(int imu_samples_per_state) {
   }
   const auto window = smoother.WindowStates();
   EXPECT_LE(window.back().t_ns - window.front().t_ns, FromSeconds(options.window_s));
+}
+
+// The smoother integrates the newest state's interval once, sample by sample, and its IMU
+// factor and the factors at the newest sample share those steps: every prediction from the
+// newest state must be FromSamples' from it, bit for bit, across solves (the state moves), state
+// creations and a change of noise.
+TEST(SlidingWindowSmoother, NewestStatesSharedPreintegrationIsFromSamplesBitForBit) {
+  SmootherScenario sc;
+  sc.noisy = true;
+  sc.true_bias = ImuBias{Vec3(2e-3, -1e-3, 5e-4), Vec3(0.05, -0.02, 0.03)};
+  sc.Generate();
+  SlidingWindowOptions options;
+  options.window_s = 0.5;
+  options.imu_samples_per_state = 10;
+  SlidingWindowSmoother smoother(options);
+  smoother.AddImu(sc.imu.front());
+  smoother.Initialize(sc.InitialState(), InitialCovariance());
+  ImuNoise noise = options.imu_noise;
+  int compared = 0;
+  const auto check = [&](std::size_t k) {
+    const NavState newest = smoother.NewestState();
+    const NavState expected =
+        ImuPreintegration::FromSamples(std::span<const ImuSample>(sc.imu.data(), k + 1),
+                                       newest.t_ns, sc.imu[k].header.stamp_ns, noise,
+                                       ImuBias{newest.gyro_bias, newest.accel_bias})
+            .Predict(newest);
+    const NavState got = smoother.PredictToNewestImu();
+    ASSERT_EQ(got.t_ns, expected.t_ns);
+    EXPECT_EQ(std::memcmp(got.p_world.data(), expected.p_world.data(), sizeof(Vec3)), 0) << k;
+    EXPECT_EQ(std::memcmp(got.v_world.data(), expected.v_world.data(), sizeof(Vec3)), 0) << k;
+    EXPECT_EQ(std::memcmp(got.q_world_imu.coeffs().data(), expected.q_world_imu.coeffs().data(),
+                          4 * sizeof(double)),
+              0)
+        << k;
+    ++compared;
+  };
+  std::size_t next = 0;
+  for (std::size_t k = 1; k < sc.imu.size(); ++k) {
+    if (k == sc.imu.size() / 2) {  // the noise changes between two samples of an interval
+      noise.gyro_noise_density *= 2.0;
+      smoother.SetImuNoise(noise);
+    }
+    smoother.AddImu(sc.imu[k]);
+    check(k);
+    while (next < sc.fixes.size() && sc.fixes[next].header.stamp_ns <= sc.imu[k].header.stamp_ns) {
+      EXPECT_EQ(smoother.AddGnss(sc.fixes[next], kFrontAntenna), AddResult::kAdded);
+      ++next;
+      EXPECT_TRUE(smoother.Solve().usable);
+      check(k);
+    }
+  }
+  EXPECT_GT(compared, 200);
 }
 
 TEST(SlidingWindowSmoother, NoiseFreeDataTracksTruthWithStatesAtEveryImuSample) {
