@@ -127,14 +127,14 @@ class FrontEndContext {
   // Mean and covariance at t_ns: propagated from the newest solved state, or inside the window
   // (mean from the states around t, covariance of the newest state); nullopt if not held.
   std::optional<PropagatedState> PredictAt(TimeNs t_ns) const {
-    if (const auto p = output.AfterAnchor(t_ns)) return p;
+    if (const auto p = output.AfterAnchor(t_ns, smoother.FromNewestState())) return p;
     if (!output.has_anchor() || t_ns > newest_imu_ns) return std::nullopt;
     const std::vector<NavState> window = smoother.WindowStates();
     return output.InWindow(t_ns, window);
   }
   // PredictAt's mean and the velocity block of its covariance alone, the same bits.
   std::optional<PropagatedVelocity> PredictVelocityAt(TimeNs t_ns) const {
-    if (const auto p = output.VelocityAfterAnchor(t_ns)) return p;
+    if (const auto p = output.VelocityAfterAnchor(t_ns, smoother.FromNewestState())) return p;
     if (!output.has_anchor() || t_ns > newest_imu_ns) return std::nullopt;
     const std::vector<NavState> window = smoother.WindowStates();
     return output.VelocityInWindow(t_ns, window);
@@ -142,7 +142,7 @@ class FrontEndContext {
   // PredictAt's mean alone, the same bits, without carrying the covariance where it can be
   // left out (after the anchor), for the front ends that read only the mean.
   std::optional<NavState> PredictMeanAt(TimeNs t_ns) const {
-    if (const auto mean = output.MeanAfterAnchor(t_ns)) return mean;
+    if (const auto mean = output.MeanAfterAnchor(t_ns, smoother.FromNewestState())) return mean;
     if (const auto p = PredictAt(t_ns)) return p->state;
     return std::nullopt;
   }

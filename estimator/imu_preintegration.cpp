@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "core/error.hpp"
@@ -73,6 +74,32 @@ MagnusStep Magnus(const Vec3& w1, const Vec3& w2, double H) {
           H * Mat3::Identity() - c * (so3::Hat(w2) - so3::Hat(w1))};
 }
 
+// The samples FromSamples integrates over [t_begin_ns, t_end_ns] (covered): k0 the last at or
+// before t_begin_ns, k1 the first at or after t_end_ns, first the stencil's start before k0 (the
+// first gap (k0, k0 + 1] uses the stencil k0 - 2 .. k0 + 1).
+struct SampleRange {
+  std::size_t first, k0, k1;
+};
+
+SampleRange SampleRangeOf(std::span<const ImuSample> samples, TimeNs t_begin_ns,
+                          TimeNs t_end_ns) {
+  // Number of samples at or before t_ns.
+  const auto count_until = [&](TimeNs t_ns) {
+    const auto it =
+        std::upper_bound(samples.begin(), samples.end(), t_ns,
+                         [](TimeNs t, const ImuSample& s) { return t < s.header.stamp_ns; });
+    return static_cast<std::size_t>(it - samples.begin());
+  };
+  const std::size_t k0 = count_until(t_begin_ns) - 1;
+  std::size_t k1 = count_until(t_end_ns) - 1;
+  if (samples[k1].header.stamp_ns < t_end_ns) ++k1;
+  return {k0 >= kStencil - 2 ? k0 - (kStencil - 2) : 0, k0, k1};
+}
+
+bool SameBits(const Vec3& a, const Vec3& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(Vec3)) == 0;
+}
+
 }  // namespace
 
 ImuSample InterpolateImuSample(const ImuSample& a, const ImuSample& b, TimeNs t_ns) {
@@ -97,19 +124,7 @@ ImuPreintegration ImuPreintegration::FromSamples(std::span<const ImuSample> samp
     throw InputError("imu preintegration: samples do not cover the interval [" +
                      std::to_string(t_begin_ns) + ", " + std::to_string(t_end_ns) + "] ns");
   }
-  // Number of samples at or before t_ns.
-  const auto count_until = [&](TimeNs t_ns) {
-    const auto it =
-        std::upper_bound(samples.begin(), samples.end(), t_ns,
-                         [](TimeNs t, const ImuSample& s) { return t < s.header.stamp_ns; });
-    return static_cast<std::size_t>(it - samples.begin());
-  };
-  // k0: last sample at or before t_begin_ns; k1: first sample at or after t_end_ns.
-  const std::size_t k0 = count_until(t_begin_ns) - 1;
-  std::size_t k1 = count_until(t_end_ns) - 1;
-  if (samples[k1].header.stamp_ns < t_end_ns) ++k1;
-  // The first gap (k0, k0 + 1] uses the stencil k0 - 2 .. k0 + 1.
-  const std::size_t first = k0 >= kStencil - 2 ? k0 - (kStencil - 2) : 0;
+  const auto [first, k0, k1] = SampleRangeOf(samples, t_begin_ns, t_end_ns);
 
   ImuPreintegration pim(noise, bias_lin);
   pim.raw_.reserve(k1 - first + 1);
@@ -261,6 +276,23 @@ void ImuPreintegration::Advance(std::size_t j, TimeNs t_ns) {
   delta_q_ = q1;
   dt_ += h;
   samples_.push_back(node);
+}
+
+bool ImuPreintegration::IntegratesSamplesOf(std::span<const ImuSample> samples) const {
+  if (samples_.empty() || samples.empty() || samples.front().header.stamp_ns > start_ns() ||
+      samples.back().header.stamp_ns < end_ns()) {
+    return false;
+  }
+  const auto [first, k0, k1] = SampleRangeOf(samples, start_ns(), end_ns());
+  if (raw_.size() != k1 - first + 1) return false;
+  for (std::size_t i = 0; i < raw_.size(); ++i) {
+    const ImuSample& s = samples[first + i];
+    if (raw_[i].t_ns != s.header.stamp_ns || !SameBits(raw_[i].gyro, s.gyro) ||
+        !SameBits(raw_[i].accel, s.accel)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 ImuPreintegration ImuPreintegration::Reintegrated(const ImuBias& bias_lin) const {

@@ -97,6 +97,12 @@ class ImuPreintegration {
     Integrate(sample.header.stamp_ns, sample.gyro, sample.accel);
   }
 
+  // Whether FromSamples(samples, start_ns(), end_ns(), noise(), bias_lin()) would integrate the
+  // very raw samples (bits, stamps, interpolation context) this one holds: it then gives this one
+  // bit for bit, when this one came from FromSamples and Integrate at sample stamps. For using
+  // a preintegration made from another buffer of the same stream.
+  bool IntegratesSamplesOf(std::span<const ImuSample> samples) const;
+
   // The same raw samples (with their context) integrated again around a new linearisation bias
   // (exact, not first order). Use when the estimated bias moved far from bias_lin().
   ImuPreintegration Reintegrated(const ImuBias& bias_lin) const;

@@ -1,6 +1,7 @@
 #include "estimator/imu_rate_output.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace statebench::est {
 namespace {
@@ -41,8 +42,16 @@ bool ImuRateOutput::IsSampleStamp(TimeNs t_ns) const {
   return it != imu_.end() && it->header.stamp_ns == t_ns;
 }
 
-const ImuPreintegration& ImuRateOutput::FromAnchorTo(TimeNs t_ns) const {
+const ImuPreintegration& ImuRateOutput::FromAnchorTo(TimeNs t_ns,
+                                                     const ImuPreintegration* shared) const {
   const NavState& anchor = anchor_->state;
+  if (shared != nullptr && shared->start_ns() == anchor.t_ns && shared->end_ns() == t_ns &&
+      shared->noise() == noise_ &&
+      std::memcmp(shared->bias_lin().gyro.data(), anchor.gyro_bias.data(), sizeof(Vec3)) == 0 &&
+      std::memcmp(shared->bias_lin().accel.data(), anchor.accel_bias.data(), sizeof(Vec3)) == 0 &&
+      shared->IntegratesSamplesOf(imu_)) {
+    return *shared;
+  }
   // Extending is the same arithmetic as integrating from the anchor only from a node that
   // FromSamples also makes: a sample stamp, or the anchor itself.
   const bool extendable = cursor_ && cursor_->end_ns() <= t_ns && IsSampleStamp(t_ns) &&
@@ -63,31 +72,35 @@ NavState ImuRateOutput::Carry(const NavState& from, TimeNs t_ns) const {
 
 template <typename Propagated>
 std::optional<Propagated> ImuRateOutput::AfterAnchorWith(
-    TimeNs t_ns,
+    TimeNs t_ns, const ImuPreintegration* shared,
     Propagated (*propagate)(const NavState&, const Mat15&, const ImuPreintegration&)) const {
   if (!anchor_ || t_ns < anchor_->state.t_ns || t_ns > imu_.back().header.stamp_ns) {
     return std::nullopt;
   }
   if (t_ns == running_->end_ns()) return propagate(anchor_->state, anchor_->covariance, *running_);
-  return propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns));
+  return propagate(anchor_->state, anchor_->covariance, FromAnchorTo(t_ns, shared));
 }
 
-std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns) const {
+std::optional<PropagatedState> ImuRateOutput::AfterAnchor(TimeNs t_ns,
+                                                          const ImuPreintegration* shared) const {
   if (last_after_anchor_ && last_after_anchor_->state.t_ns == t_ns) return last_after_anchor_;
-  last_after_anchor_ = AfterAnchorWith(t_ns, &Propagate);
+  last_after_anchor_ = AfterAnchorWith(t_ns, shared, &Propagate);
   return last_after_anchor_;
 }
 
-std::optional<PropagatedVelocity> ImuRateOutput::VelocityAfterAnchor(TimeNs t_ns) const {
-  return AfterAnchorWith(t_ns, &PropagateVelocity);
+std::optional<PropagatedVelocity> ImuRateOutput::VelocityAfterAnchor(
+    TimeNs t_ns, const ImuPreintegration* shared) const {
+  return AfterAnchorWith(t_ns, shared, &PropagateVelocity);
 }
 
-std::optional<NavState> ImuRateOutput::MeanAfterAnchor(TimeNs t_ns) const {
+std::optional<NavState> ImuRateOutput::MeanAfterAnchor(TimeNs t_ns,
+                                                      const ImuPreintegration* shared) const {
   if (!anchor_ || t_ns < anchor_->state.t_ns || t_ns > imu_.back().header.stamp_ns) {
     return std::nullopt;
   }
   // Propagate's mean: the anchor itself over an empty interval, else the prediction.
-  const ImuPreintegration& pim = t_ns == running_->end_ns() ? *running_ : FromAnchorTo(t_ns);
+  const ImuPreintegration& pim =
+      t_ns == running_->end_ns() ? *running_ : FromAnchorTo(t_ns, shared);
   return pim.empty() ? anchor_->state : pim.Predict(anchor_->state);
 }
 

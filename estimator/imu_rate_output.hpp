@@ -43,15 +43,21 @@ class ImuRateOutput {
   const std::vector<ImuSample>& samples() const { return imu_; }
 
   // Mean and covariance at t_ns in [anchor, newest sample]; nullopt outside.
-  std::optional<PropagatedState> AfterAnchor(TimeNs t_ns) const;
+  // `shared`, when given, is another preintegration of the same stream (the smoother's from its
+  // newest state): used instead of integrating when it is the anchor's to t_ns from the very
+  // samples held here (ImuPreintegration::IntegratesSamplesOf), bit for bit the same answer.
+  std::optional<PropagatedState> AfterAnchor(TimeNs t_ns,
+                                             const ImuPreintegration* shared = nullptr) const;
   // AfterAnchor's mean alone (the same bits; no covariance propagated).
-  std::optional<NavState> MeanAfterAnchor(TimeNs t_ns) const;
+  std::optional<NavState> MeanAfterAnchor(TimeNs t_ns,
+                                          const ImuPreintegration* shared = nullptr) const;
   // At t_ns before the anchor, from the smoothed window states (oldest first); nullopt if t_ns
   // is before the first of them or the samples held.
   std::optional<PropagatedState> InWindow(TimeNs t_ns, std::span<const NavState> window) const;
   // AfterAnchor and InWindow with the velocity block of the covariance alone (the same bits;
   // PropagateVelocity).
-  std::optional<PropagatedVelocity> VelocityAfterAnchor(TimeNs t_ns) const;
+  std::optional<PropagatedVelocity> VelocityAfterAnchor(
+      TimeNs t_ns, const ImuPreintegration* shared = nullptr) const;
   std::optional<PropagatedVelocity> VelocityInWindow(TimeNs t_ns,
                                                      std::span<const NavState> window) const;
   // The mean alone, as AfterAnchor or else InWindow give it (no covariance propagated).
@@ -66,7 +72,7 @@ class ImuRateOutput {
   ImuPreintegration Preintegrate(const NavState& from, TimeNs t_ns) const;
   // AfterAnchor and InWindow with `propagate` (Propagate or PropagateVelocity).
   template <typename Propagated>
-  std::optional<Propagated> AfterAnchorWith(TimeNs t_ns,
+  std::optional<Propagated> AfterAnchorWith(TimeNs t_ns, const ImuPreintegration* shared,
                                             Propagated (*propagate)(const NavState&, const Mat15&,
                                                                     const ImuPreintegration&)) const;
   template <typename Propagated>
@@ -74,7 +80,8 @@ class ImuRateOutput {
                                          Propagated (*propagate)(const NavState&, const Mat15&,
                                                                  const ImuPreintegration&)) const;
   // The preintegration from the anchor to t_ns, through the cursor when t_ns is a sample stamp.
-  const ImuPreintegration& FromAnchorTo(TimeNs t_ns) const;
+  // `shared` instead when it is that one (AfterAnchor).
+  const ImuPreintegration& FromAnchorTo(TimeNs t_ns, const ImuPreintegration* shared) const;
   bool IsSampleStamp(TimeNs t_ns) const;
 
   ImuNoise noise_;

@@ -287,6 +287,10 @@ NavState SlidingWindowSmoother::PredictToNewestImu() const {
   return m.Preintegrate(*m.states.back(), t_imu).Predict(newest);
 }
 
+const ImuPreintegration* SlidingWindowSmoother::FromNewestState() const {
+  return impl_->from_newest ? &*impl_->from_newest : nullptr;
+}
+
 Mat15 SlidingWindowSmoother::NewestCovariance() const {
   if (!initialized()) throw InputError("sliding window smoother: not initialized");
   const Mat15 information = impl_->newest_information ? *impl_->newest_information

@@ -215,6 +215,10 @@ class SlidingWindowSmoother {
   // Newest state propagated with the IMU to the newest sample (equal to NewestState() when a
   // state sits on every sample).
   NavState PredictToNewestImu() const;
+  // The preintegration from the newest state to the newest sample, as integrated at the values
+  // the state had then (they may have moved since: a user checks its bias_lin and stamps), or
+  // null; valid until the next call that changes the smoother. For ImuRateOutput::AfterAnchor.
+  const ImuPreintegration* FromNewestState() const;
   // Marginal covariance of the newest state, core/state.hpp ordering.
   Mat15 NewestCovariance() const;
   std::vector<NavState> WindowStates() const;

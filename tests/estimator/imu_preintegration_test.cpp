@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <span>
 #include <vector>
 
 #include "core/error.hpp"
@@ -278,6 +280,33 @@ TEST(ImuPreintegration, RejectsBadSamplesAndKeepsState) {
   EXPECT_EQ(pim.num_steps(), 1);
   EXPECT_EQ(pim.end_ns(), 2000);
   EXPECT_EQ(pim.delta_v(), dv);
+}
+
+// A preintegration made from one buffer may stand for FromSamples on another only when that one
+// holds the very samples it integrated, the interpolation context before its start included.
+TEST(ImuPreintegration, IntegratesSamplesOfNeedsTheSameSamplesAndContext) {
+  const std::vector<ImuSample> samples = HelixSamples(1.0, 0.2, 100.0, /*context=*/5);
+  const TimeNs t0 = samples[5].header.stamp_ns;
+  const TimeNs t1 = samples[15].header.stamp_ns;
+  const ImuPreintegration direct = ImuPreintegration::FromSamples(samples, t0, t1, ImuNoise{}, {});
+  EXPECT_TRUE(direct.IntegratesSamplesOf(samples));
+  // Extended sample by sample from its start: the same samples, and the same bits.
+  ImuPreintegration extended = ImuPreintegration::FromSamples(samples, t0, t0, ImuNoise{}, {});
+  for (std::size_t k = 6; k <= 15; ++k) extended.Integrate(samples[k]);
+  EXPECT_TRUE(extended.IntegratesSamplesOf(samples));
+  EXPECT_EQ(extended.delta_p(), direct.delta_p());
+  EXPECT_EQ(extended.covariance(), direct.covariance());
+  // Another buffer: shorter context (the stencil would shrink), a sample's bits changed, a
+  // sample missing, or not covering the interval.
+  EXPECT_FALSE(direct.IntegratesSamplesOf(std::span<const ImuSample>(samples).subspan(4)));
+  EXPECT_TRUE(direct.IntegratesSamplesOf(std::span<const ImuSample>(samples).subspan(2)));
+  std::vector<ImuSample> changed = samples;
+  changed[3].gyro.x() = std::nextafter(changed[3].gyro.x(), 1.0);
+  EXPECT_FALSE(direct.IntegratesSamplesOf(changed));
+  std::vector<ImuSample> missing = samples;
+  missing.erase(missing.begin() + 10);
+  EXPECT_FALSE(direct.IntegratesSamplesOf(missing));
+  EXPECT_FALSE(direct.IntegratesSamplesOf(std::span<const ImuSample>(samples).first(15)));
 }
 
 }  // namespace

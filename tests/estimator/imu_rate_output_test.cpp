@@ -58,5 +58,48 @@ TEST(ImuRateOutput, StampsBeforeTheNewestAreIntegratedFromTheAnchorExactly) {
   }
 }
 
+// A preintegration from another buffer of the stream (the smoother's) stands in for the output's
+// own only where it is the same: the answer is always that of the output's samples.
+TEST(ImuRateOutput, ASharedPreintegrationIsUsedOnlyWhereItIsTheAnchors) {
+  const HelixTrajectory helix;
+  const ImuNoise noise;
+  ImuRateOutput output(noise);
+  const TimeNs step = FromSeconds(0.01);
+  std::vector<ImuSample> other;  // the smoother's buffer: the same stream
+  for (int k = 0; k <= 40; ++k) {
+    const ImuSample s = HelixImuSample(helix, FromSeconds(1.0) + k * step);
+    output.AddImu(s);
+    other.push_back(s);
+  }
+  PropagatedState anchor;
+  anchor.state = helix.State(FromSeconds(1.1));
+  anchor.state.gyro_bias = Vec3(1e-3, -2e-3, 5e-4);
+  anchor.covariance = 1e-4 * Mat15::Identity();
+  output.SetAnchor(anchor);
+  const ImuBias bias{anchor.state.gyro_bias, anchor.state.accel_bias};
+  const TimeNs t_ns = FromSeconds(1.0) + 25 * step;
+  const PropagatedState expected = Propagate(
+      anchor.state, anchor.covariance,
+      ImuPreintegration::FromSamples(output.samples(), anchor.state.t_ns, t_ns, noise, bias));
+  ImuBias other_bias = bias;
+  other_bias.accel.x() += 0.01;
+  std::vector<ImuSample> altered = other;
+  altered[24].accel.y() += 1e-3;
+  ImuNoise other_noise = noise;
+  other_noise.accel_noise_density *= 2.0;
+  const std::vector<ImuPreintegration> shared{
+      ImuPreintegration::FromSamples(other, anchor.state.t_ns, t_ns, noise, bias),  // the same
+      ImuPreintegration::FromSamples(other, anchor.state.t_ns, t_ns, noise, other_bias),
+      ImuPreintegration::FromSamples(altered, anchor.state.t_ns, t_ns, noise, bias),
+      ImuPreintegration::FromSamples(other, anchor.state.t_ns, t_ns, other_noise, bias),
+      ImuPreintegration::FromSamples(other, anchor.state.t_ns, t_ns - step, noise, bias)};
+  for (const ImuPreintegration& p : shared) {
+    const std::optional<PropagatedState> got = output.AfterAnchor(t_ns, &p);
+    ASSERT_TRUE(got);
+    ExpectSameBits(*got, expected);
+    output.AddImu(HelixImuSample(helix, output.samples().back().header.stamp_ns + step));
+  }
+}
+
 }  // namespace
 }  // namespace statebench::est
