@@ -278,6 +278,12 @@ void ImuPreintegration::Advance(std::size_t j, TimeNs t_ns) {
   samples_.push_back(node);
 }
 
+bool ImuPreintegration::StartsAs(TimeNs t_begin_ns, const ImuNoise& noise,
+                                 const ImuBias& bias_lin) const {
+  return !samples_.empty() && start_ns() == t_begin_ns && noise_ == noise &&
+         SameBits(bias_lin_.gyro, bias_lin.gyro) && SameBits(bias_lin_.accel, bias_lin.accel);
+}
+
 bool ImuPreintegration::IntegratesSamplesOf(std::span<const ImuSample> samples) const {
   if (samples_.empty() || samples.empty() || samples.front().header.stamp_ns > start_ns() ||
       samples.back().header.stamp_ns < end_ns()) {

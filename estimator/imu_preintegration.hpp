@@ -97,6 +97,9 @@ class ImuPreintegration {
     Integrate(sample.header.stamp_ns, sample.gyro, sample.accel);
   }
 
+  // Whether this one starts at t_begin_ns and was integrated with `noise` and `bias_lin` (the
+  // biases compared bit for bit).
+  bool StartsAs(TimeNs t_begin_ns, const ImuNoise& noise, const ImuBias& bias_lin) const;
   // Whether FromSamples(samples, start_ns(), end_ns(), noise(), bias_lin()) would integrate the
   // very raw samples (bits, stamps, interpolation context) this one holds: it then gives this one
   // bit for bit, when this one came from FromSamples and Integrate at sample stamps. For using

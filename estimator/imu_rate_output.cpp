@@ -1,7 +1,6 @@
 #include "estimator/imu_rate_output.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 namespace statebench::est {
 namespace {
@@ -45,10 +44,8 @@ bool ImuRateOutput::IsSampleStamp(TimeNs t_ns) const {
 const ImuPreintegration& ImuRateOutput::FromAnchorTo(TimeNs t_ns,
                                                      const ImuPreintegration* shared) const {
   const NavState& anchor = anchor_->state;
-  if (shared != nullptr && shared->start_ns() == anchor.t_ns && shared->end_ns() == t_ns &&
-      shared->noise() == noise_ &&
-      std::memcmp(shared->bias_lin().gyro.data(), anchor.gyro_bias.data(), sizeof(Vec3)) == 0 &&
-      std::memcmp(shared->bias_lin().accel.data(), anchor.accel_bias.data(), sizeof(Vec3)) == 0 &&
+  if (shared != nullptr && shared->end_ns() == t_ns &&
+      shared->StartsAs(anchor.t_ns, noise_, ImuBias{anchor.gyro_bias, anchor.accel_bias}) &&
       shared->IntegratesSamplesOf(imu_)) {
     return *shared;
   }

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <deque>
 #include <functional>
 #include <initializer_list>
@@ -204,10 +203,9 @@ struct SlidingWindowSmoother::Impl {
 
   bool FromNewestCurrent() const {
     const Node& n = *states.back();
-    const ImuBias& b = from_newest->bias_lin();
-    return from_newest->start_ns() == n.t_ns && from_newest->noise() == options.imu_noise &&
-           std::memcmp(b.gyro.data(), n.x.bias.data(), 3 * sizeof(double)) == 0 &&
-           std::memcmp(b.accel.data(), n.x.bias.data() + 3, 3 * sizeof(double)) == 0;
+    const ImuBias bias{Eigen::Map<const Vec3>(n.x.bias.data()),
+                       Eigen::Map<const Vec3>(n.x.bias.data() + 3)};
+    return from_newest->StartsAs(n.t_ns, options.imu_noise, bias);
   }
 
   // After a sample joined the buffer: from_newest extended to it (the same integration steps as
