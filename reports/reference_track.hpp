@@ -3,8 +3,9 @@
 // is dropped (DropBefore), so a long run keeps seconds of truth, not hours.
 #pragma once
 
-#include <deque>
+#include <cstddef>
 #include <optional>
+#include <vector>
 
 #include "core/se3.hpp"
 #include "core/truth.hpp"
@@ -23,8 +24,9 @@ class ReferenceTrack {
   // The reference at t_ns; nullopt when t_ns is outside the samples held.
   std::optional<ReferenceState> At(TimeNs t_ns) const;
 
-  bool empty() const { return states_.empty(); }
-  TimeNs oldest_ns() const { return states_.front().t_ns; }
+  bool empty() const { return oldest_ == states_.size(); }
+  std::size_t size() const { return states_.size() - oldest_; }
+  TimeNs oldest_ns() const { return states_[oldest_].t_ns; }
   TimeNs newest_ns() const { return states_.back().t_ns; }
 
   // Forgets the samples before t_ns but the last one at or before it (interpolation needs it).
@@ -32,7 +34,11 @@ class ReferenceTrack {
 
  private:
   SE3 T_body_frame_;
-  std::deque<ReferenceState> states_;
+  // The states held are states_[oldest_..]. Dropping only moves oldest_; the dropped front is
+  // erased when the vector is full and it is at least half of it, so a long run reuses one
+  // allocation (a deque allocated a node for nearly every state: ReferenceState is large).
+  std::vector<ReferenceState> states_;
+  std::size_t oldest_ = 0;
 };
 
 }  // namespace statebench::reports

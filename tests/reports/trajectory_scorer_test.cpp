@@ -160,10 +160,10 @@ TEST(TrajectoryScorer, NonFiniteEstimatesAreCountedNotCompared) {
   EXPECT_TRUE(std::isfinite(m.rmse_velocity_mps));
 }
 
-TEST(ReferenceTrack, InterpolatesLikeTheWholeReferenceAndKeepsOnlyWhatIsAhead) {
-  // Truth at 1 kHz along a circle; estimates at 100 Hz shifted by 3.7 ms between samples.
+// Truth at 1 kHz along a circle of 50 m at 10 m/s, samples 0..last_ms.
+std::vector<TruthSample> CircleTruthAt1kHz(int last_ms) {
   std::vector<TruthSample> truth;
-  for (int i = 0; i <= 20000; ++i) {
+  for (int i = 0; i <= last_ms; ++i) {
     TruthSample s;
     s.t_ns = i * kNsPerMillisecond;
     const double a = 0.2 * ToSeconds(s.t_ns);
@@ -172,6 +172,12 @@ TEST(ReferenceTrack, InterpolatesLikeTheWholeReferenceAndKeepsOnlyWhatIsAhead) {
     s.body.v_world = Vec3(-10 * std::sin(a), 10 * std::cos(a), 0);
     truth.push_back(s);
   }
+  return truth;
+}
+
+TEST(ReferenceTrack, InterpolatesLikeTheWholeReferenceAndKeepsOnlyWhatIsAhead) {
+  // Estimates at 100 Hz shifted by 3.7 ms between truth samples.
+  const std::vector<TruthSample> truth = CircleTruthAt1kHz(20000);
   const SE3 T_body_imu(Quat::Identity(), Vec3(0.5, 0.1, 0.3));
   const std::vector<ReferenceState> all = ReferenceFromTruth(truth, T_body_imu);
   ReferenceTrack track(T_body_imu);
@@ -193,6 +199,38 @@ TEST(ReferenceTrack, InterpolatesLikeTheWholeReferenceAndKeepsOnlyWhatIsAhead) {
                                         (track.newest_ns() - track.oldest_ns()) / kNsPerMillisecond));
   }
   EXPECT_LE(most_held, 2u);  // a sample before t and one after
+}
+
+TEST(ReferenceTrack, KeepsWhatItHoldsWhileDroppedStatesAreReclaimed) {
+  // Truth runs ahead of the queries by a varying amount (0 to 3 s), so the track both holds
+  // thousands of states and is reclaimed many times; every query matches the whole reference.
+  const std::vector<TruthSample> truth = CircleTruthAt1kHz(30000);
+  const SE3 T_body_imu(Quat::Identity(), Vec3(-0.2, 0.0, 0.9));
+  const std::vector<ReferenceState> all = ReferenceFromTruth(truth, T_body_imu);
+  ReferenceTrack track(T_body_imu);
+  std::size_t next = 0;
+  for (int k = 0; k < 2500; ++k) {
+    const TimeNs t = k * 10 * kNsPerMillisecond + 1'300'000;
+    const TimeNs ahead = ((k / 100) % 4) * kNsPerSecond;  // 0, 1, 2, 3 s of truth ahead
+    while (next < truth.size() && (track.empty() || track.newest_ns() < t + ahead)) {
+      track.Add(truth[next++]);
+    }
+    ASSERT_FALSE(track.empty());
+    EXPECT_EQ(track.size(),
+              static_cast<std::size_t>((track.newest_ns() - track.oldest_ns()) / kNsPerMillisecond) + 1);
+    for (const TimeNs q : {t, t + ahead / 2, track.newest_ns()}) {
+      const auto a = track.At(q);
+      const auto b = InterpolateReference(all, q);
+      ASSERT_TRUE(a && b) << "t " << q;
+      EXPECT_EQ(a->t_ns, b->t_ns);
+      EXPECT_NEAR((a->T_world_frame.translation() - b->T_world_frame.translation()).norm(), 0.0,
+                  1e-12);
+      EXPECT_NEAR(a->distance_m, b->distance_m, 1e-12);
+    }
+    track.DropBefore(t);
+    EXPECT_LE(track.oldest_ns(), t);
+    EXPECT_GT(track.oldest_ns(), t - kNsPerMillisecond);
+  }
 }
 
 }  // namespace
