@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <span>
 #include <vector>
 #include <nlohmann/json.hpp>
 
@@ -15,9 +14,9 @@
 #include "apps/commands.hpp"
 #include "apps/cpu_profile.hpp"
 #include "apps/estimator_feed.hpp"
+#include "apps/truth_stream.hpp"
 #include "core/error.hpp"
 #include "core/geodetic.hpp"
-#include "core/truth_csv_reader.hpp"
 #include "estimator/estimator_config.hpp"
 #include "estimator/estimator_factory.hpp"
 #include "reports/estimate_writer.hpp"
@@ -81,16 +80,11 @@ int RunEstimate(const std::vector<std::string>& argv) {
     std::optional<LocalEnuFrame> log_frame;
     if (reader.manifest().origin) log_frame.emplace(*reader.manifest().origin);
 
-    // The truth is streamed into the scorer (held there, not twice): it is scored when it holds
-    // a sample at all.
-    std::optional<TruthCsvReader> truth;
-    std::optional<TruthSample> first_truth;
-    if (reader.manifest().truth_csv) {
-      const StageScope stage(Stage::kReading);
-      truth.emplace(log_dir / *reader.manifest().truth_csv);
-      first_truth = truth->Next();
-    }
-    const bool has_truth = first_truth.has_value();
+    // The truth is streamed into the scorer as the log is read (TruthStream): it holds the
+    // truth of the last instants, and scores when the file holds a sample at all.
+    std::optional<TruthStream> truth;
+    if (reader.manifest().truth_csv) truth.emplace(log_dir / *reader.manifest().truth_csv);
+    const bool has_truth = truth && !truth->empty();
 
     EstimatorFeed feed(setup.imu_id, log_frame);
     feed.Add(name, name, out_dir, est::MakeEstimator(name, setup, files),
@@ -101,33 +95,8 @@ int RunEstimate(const std::vector<std::string>& argv) {
       // else the setup's mount (a log recorded before the field, or a real one).
       feed.ScoreAgainstTruth(reader.manifest().truth_imu_mount.value_or(setup.T_body_imu), {});
       feed.WriteDetails(out_dir);
-      // Read and scored in blocks: one stage switch per block, not two per sample.
-      constexpr std::size_t kTruthBlock = 1024;
-      std::vector<TruthSample> block = {*first_truth};
-      block.reserve(kTruthBlock);
-      TimeNs last_ns = first_truth->t_ns;
-      for (bool more = true; more;) {
-        {
-          const StageScope stage(Stage::kReading);
-          while (block.size() < kTruthBlock) {
-            std::optional<TruthSample> s = truth->Next();
-            if (!s) {
-              more = false;
-              break;
-            }
-            block.push_back(*s);
-          }
-        }
-        if (!block.empty()) {
-          last_ns = block.back().t_ns;
-          feed.AddTruth(std::span<const TruthSample>(block));
-        }
-        block.clear();
-      }
-      end_s = ToSeconds(last_ns);
+      end_s = ToSeconds(LastRowStamp(log_dir / *reader.manifest().truth_csv).value_or(0));
     }
-    const std::optional<std::string> truth_error =
-        truth ? truth->error() : std::optional<std::string>();
     FeedProgress progress("estimate " + log_dir.filename().string(), end_s, quiet);
     const auto next = [&reader] {
       const StageScope stage(Stage::kReading);
@@ -136,13 +105,19 @@ int RunEstimate(const std::vector<std::string>& argv) {
     std::optional<TimeNs> first_ns;
     std::optional<TimeNs> last_ns;
     while (const auto m = next()) {
+      if (has_truth) {
+        const MeasurementHeader& h = HeaderOf(*m);
+        truth->FeedUpTo(std::max(h.stamp_ns, h.arrival_ns), feed);
+      }
       if (const auto t = feed.Feed(*m)) {
         progress.Epoch(*t);
         if (!first_ns) first_ns = *t;
         last_ns = *t;
       }
     }
+    if (has_truth) truth->FeedRest(feed);  // what comes after the log's last message
     progress.Finish();
+    const std::optional<std::string> truth_error = truth ? truth->error() : std::nullopt;
     EstimatorScore score = feed.Finish().front();
     const FedEstimator& fed = feed.estimators().front();
     const double wall_s =
