@@ -1,8 +1,5 @@
 #include "sensors/lidar_pcd_io.hpp"
 
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/io/pcd_io.h>
-
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -11,47 +8,12 @@
 
 #include "core/error.hpp"
 #include "sensors/pcd_header.hpp"
+#include "sensors/pcl_pcd_api.hpp"
 
 namespace statebench::sensors {
 namespace {
 
 namespace fs = std::filesystem;
-using pcl::PCLPointField;
-
-// Packed layout of one point in the file: 5 floats and a uint16, 22 bytes.
-constexpr std::uint32_t kPointStep = 5 * sizeof(float) + sizeof(std::uint16_t);
-
-PCLPointField Field(const char* name, std::uint32_t offset, std::uint8_t datatype) {
-  PCLPointField f;
-  f.name = name;
-  f.offset = offset;
-  f.datatype = datatype;
-  f.count = 1;
-  return f;
-}
-
-pcl::PCLPointCloud2 ToCloud(const std::vector<LidarPoint>& points) {
-  pcl::PCLPointCloud2 cloud;
-  cloud.height = 1;
-  cloud.width = static_cast<std::uint32_t>(points.size());
-  cloud.is_bigendian = false;
-  cloud.is_dense = true;
-  cloud.point_step = kPointStep;
-  cloud.row_step = kPointStep * cloud.width;
-  cloud.fields = {
-      Field("x", 0, PCLPointField::FLOAT32),  Field("y", 4, PCLPointField::FLOAT32),
-      Field("z", 8, PCLPointField::FLOAT32),  Field("intensity", 12, PCLPointField::FLOAT32),
-      Field("t", 16, PCLPointField::FLOAT32), Field("ring", 20, PCLPointField::UINT16)};
-  cloud.data.resize(static_cast<std::size_t>(cloud.row_step));
-  std::uint8_t* out = cloud.data.data();
-  for (const LidarPoint& p : points) {
-    const float values[5] = {p.x, p.y, p.z, p.intensity, p.t};
-    std::memcpy(out, values, sizeof(values));
-    std::memcpy(out + sizeof(values), &p.ring, sizeof(p.ring));
-    out += kPointStep;
-  }
-  return cloud;
-}
 
 [[noreturn]] void Fail(const fs::path& file, const std::string& what) {
   throw InputError(file.string() + ": " + what);
@@ -120,32 +82,24 @@ std::vector<LidarPoint> ReadBinary(const fs::path& file, const PcdHeader& header
 // ascii and binary_compressed data are PCL's to decode, once the header has been accepted.
 std::vector<LidarPoint> ReadWithPcl(const fs::path& file, const PcdHeader& header,
                                     const PointLayout& layout) {
-  pcl::PCDReader reader;
-  pcl::PCLPointCloud2 cloud;
-  if (reader.read(file.string(), cloud) != 0) Fail(file, "PCL cannot read its data");
-  const std::size_t points = static_cast<std::size_t>(cloud.width) * cloud.height;
-  if (points != header.points || cloud.point_step != header.point_step ||
-      cloud.data.size() < points * cloud.point_step) {
+  PclCloud cloud;
+  if (const std::string why = PclPcd().Read(file.string(), &cloud); !why.empty()) {
+    Fail(file, why);
+  }
+  if (cloud.points != header.points || cloud.point_step != header.point_step ||
+      cloud.data.size() < cloud.points * cloud.point_step) {
     Fail(file, "fewer points than announced");
   }
-  return Unpack(cloud.data.data(), points, cloud.point_step, layout);
+  return Unpack(cloud.data.data(), static_cast<std::size_t>(cloud.points), cloud.point_step,
+                layout);
 }
 
 }  // namespace
 
 void WriteLidarPcd(const fs::path& file, const std::vector<LidarPoint>& points) {
-  const pcl::PCLPointCloud2 cloud = ToCloud(points);
-  pcl::PCDWriter writer;
-  if (points.empty()) {
-    // PCL refuses to write a cloud without data; an empty sweep is its header alone.
-    std::ofstream out(file, std::ios::binary);
-    out << writer.generateHeaderBinary(cloud, Eigen::Vector4f::Zero(),
-                                       Eigen::Quaternionf::Identity())
-        << "DATA binary\n";
-    if (!out) Fail(file, "cannot write");
-    return;
+  if (const std::string why = PclPcd().WriteBinary(file.string(), points); !why.empty()) {
+    Fail(file, why);
   }
-  if (writer.writeBinary(file.string(), cloud) != 0) Fail(file, "cannot write");
 }
 
 std::vector<LidarPoint> ReadLidarPcd(const fs::path& file) {

@@ -1,7 +1,8 @@
 // One lidar sweep as a PCD file (PCL's I/O, binary): fields x y z intensity t (float32, lidar
 // frame m, intensity, seconds after the scan stamp) and ring (uint16), one point per return, in
 // the order of LidarScan::points. Floats are stored raw, so a read gives the written bits back.
-// PCL stays inside the .cpp (its headers are slow to compile).
+// Binary files are read directly; PCL writes them and decodes ascii and binary_compressed data,
+// from a module loaded when first needed (pcl_pcd_api.hpp).
 #pragma once
 
 #include <filesystem>
