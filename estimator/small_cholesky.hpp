@@ -23,23 +23,12 @@ class SmallCholesky {
   SmallCholesky() = default;
   explicit SmallCholesky(const Matrix& A) { Compute(A); }
 
-  // Left-looking, column by column: L_j = (A_j - sum_{k<j} L_jk L_k) / sqrt(pivot). False
+  // Left-looking, column by column: L_j = (A_j - sum_{k<j} L_jk L_k) / sqrt(pivot), on the rows
+  // j..N-1 of column j alone (a fixed-size tail for each j; the rows above stay zero). False
   // (factor unspecified) when a pivot is not positive or not finite.
   bool Compute(const Matrix& A) {
-    ok_ = false;
-    for (int j = 0; j < N; ++j) {
-      Eigen::Matrix<double, N, 1> c = A.col(j);
-      for (int k = 0; k < j; ++k) c -= L_(j, k) * L_.col(k);
-      const double pivot = c(j);
-      if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;
-      const double d = std::sqrt(pivot);
-      c /= d;
-      c.head(j).setZero();  // above the diagonal: L is lower triangular
-      c(j) = d;
-      L_.col(j) = c;
-    }
-    ok_ = true;
-    return true;
+    ok_ = ComputeFrom<0>(A);
+    return ok_;
   }
 
   bool ok() const { return ok_; }
@@ -75,7 +64,25 @@ class SmallCholesky {
   }
 
  private:
-  Matrix L_ = Matrix::Zero();
+  template <int J>
+  bool ComputeFrom(const Matrix& A) {
+    if constexpr (J == N) {
+      return true;
+    } else {
+      constexpr int M = N - J;  // the rows on and below the diagonal
+      Eigen::Matrix<double, M, 1> c = A.col(J).template tail<M>();
+      for (int k = 0; k < J; ++k) c -= L_(J, k) * L_.col(k).template tail<M>();
+      const double pivot = c(0);
+      if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;
+      const double d = std::sqrt(pivot);
+      c /= d;
+      c(0) = d;
+      L_.col(J).template tail<M>() = c;
+      return ComputeFrom<J + 1>(A);
+    }
+  }
+
+  Matrix L_ = Matrix::Zero();  // only ever written on and below the diagonal
   bool ok_ = false;
 };
 

@@ -97,6 +97,22 @@ TEST(SmallCholesky, FactorAndSolvesAgreeWithEigen) {
   }
 }
 
+// Compute writes each column on and below the diagonal only: a factor computed again (after a
+// success or a refusal) is the one a fresh object gives, its upper triangle still zero.
+TEST(SmallCholesky, ComputedAgainEqualsAFreshFactor) {
+  std::mt19937_64 rng(10);
+  SmallCholesky<15> reused(RandomSpd<15>(rng, 1.0));
+  ASSERT_TRUE(reused.ok());
+  Mat15 bad = RandomSpd<15>(rng, 1.0);
+  bad(9, 9) = -1.0;
+  EXPECT_FALSE(reused.Compute(bad));
+  const Mat15 A = RandomSpd<15>(rng, 1e-3);
+  ASSERT_TRUE(reused.Compute(A));
+  EXPECT_EQ(reused.L(), SmallCholesky<15>(A).L());
+  EXPECT_TRUE(reused.L().triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0.0));
+  EXPECT_LT((reused.L() * reused.L().transpose() - A).norm(), 1e-12 * A.norm());
+}
+
 TEST(SmallCholesky, RefusesWhatIsNotPositiveDefinite) {
   Mat3 A = Mat3::Identity();
   A(1, 1) = -1.0;
