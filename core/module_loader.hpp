@@ -13,11 +13,11 @@
 namespace statebench {
 
 struct ModuleSpec {
-  const char* file_name = nullptr;    // e.g. "libstatebench_sumo.so"
-  const char* env_variable = nullptr; // when set and not empty: the only place tried
-  const char* build_path = nullptr;   // where the build put it (nullptr when unknown)
-  const char* entry_point = nullptr;  // the exported function returning the instance
-  const char* what = nullptr;         // for messages, e.g. "SUMO's bridge"
+  const char* file_name = nullptr;     // e.g. "libstatebench_sumo.so"
+  const char* env_variable = nullptr;  // when set and not empty: the only place tried
+  const char* build_path = nullptr;    // where the build put it (nullptr when unknown)
+  const char* entry_point = nullptr;   // the exported function returning the instance
+  const char* what = nullptr;          // for messages, e.g. "SUMO's bridge"
 };
 
 // Where the module may be, in the order tried: $env_variable when set (alone); else file_name

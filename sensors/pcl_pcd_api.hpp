@@ -6,9 +6,9 @@
 // Why not link PCL's I/O directly: libpcl_io pulls in 67 shared libraries (VTK, OpenNI, libusb,
 // Boost, ...) whose loading and static initialisation cost every `statebench` process about
 // 0.04 CPU s at start-up, PCD files or not (`statebench estimate` of an IMU + GNSS log, `results`,
-// `report`). Logs are written with the sweep codec (lidar_sweep_file.hpp), and binary PCD files
-// are read without PCL: only a process that writes PCD or reads ascii or binary_compressed PCD
-// pays for PCL, once.
+// `report`). Logs are recorded as packets files by default (--lidar-format packets or sweep need
+// no PCL), and binary PCD files are read without PCL: only a process that writes PCD or reads
+// ascii or binary_compressed PCD pays for PCL, once.
 //
 // Errors come back as messages (no exception crosses the module's boundary).
 #pragma once

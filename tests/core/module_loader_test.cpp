@@ -31,9 +31,9 @@ class ModuleLoaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
     unsetenv(kEnv);
-    dir_ = fs::temp_directory_path() / ("statebench_module_loader_" + std::to_string(getpid()) +
-                                        "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("statebench_module_loader_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override {
@@ -79,10 +79,12 @@ TEST_F(ModuleLoaderTest, AnErrorNamesEveryPlaceTriedAndWhy) {
   std::ofstream(not_a_library) << "not an ELF file\n";
   const std::string why = LoadError(Spec(not_a_library.c_str()));
   EXPECT_NE(why.find("cannot load the test module libstatebench_no_such_module.so"),
-            std::string::npos) << why;
+            std::string::npos)
+      << why;
   EXPECT_NE(why.find("set STATEBENCH_TEST_MODULE to its path"), std::string::npos) << why;
   EXPECT_NE(why.find(ModuleCandidates(Spec(nullptr))[0].string() + ": no such file"),
-            std::string::npos) << why;
+            std::string::npos)
+      << why;
   // The loader's own message for the file that is there but is no library.
   EXPECT_NE(why.find(not_a_library.string() + ": "), std::string::npos) << why;
   EXPECT_EQ(why.find(not_a_library.string() + ": no such file"), std::string::npos) << why;
