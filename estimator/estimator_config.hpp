@@ -171,6 +171,23 @@ struct GnssCalibrationUncertainty {
   double clock_offset_sigma_s = 0.003;      // the receiver's clock against the IMU's
 };
 
+// The IMU's scale factors and cross-axis terms (its triad errors) as globals of the window
+// (estimator/imu_triad_factor.hpp): nine per triad, each with the prior N(0, sigma^2) and held
+// within max_sigmas of it. Defaults: shared/REFERENCE.md's upper figures for a MEMS gyro (scale
+// factor 0.1-1 %, cross-axis 0.1-0.5 %); the accelerometer is given the same (REFERENCE has no
+// separate figure). diagnostics.json reports each under the IMU (gyro_scale_x, gyro_xz, ...).
+struct ImuTriadOptions {
+  bool estimate_gyro = false;
+  bool estimate_accel = false;
+  double gyro_scale_sigma = 0.01;
+  double gyro_misalignment_sigma_rad = 0.005;
+  double accel_scale_sigma = 0.01;
+  double accel_misalignment_sigma_rad = 0.005;
+  double max_sigmas = 5.0;
+
+  bool any() const { return estimate_gyro || estimate_accel; }
+};
+
 inline constexpr double kReorderMarginS = 0.05;  // jitter allowed on top of the stated latency
 
 struct FactorGraphOptions {
@@ -205,6 +222,7 @@ struct FactorGraphOptions {
   std::optional<GeodeticPoint> origin;  // ENU origin; default the first accepted GNSS fix
   ImuNoise imu_noise;
   ImuNoiseEstimationOptions imu_noise_estimation;  // imu_noise_monitor.hpp
+  ImuTriadOptions imu_triad;
   InitializationOptions initialization;
   MeasurementGateOptions gnss{.adapt_covariance = true};             // defaults above
   MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)

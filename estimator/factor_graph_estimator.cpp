@@ -15,6 +15,7 @@
 #include "estimator/output_blend.hpp"
 #include "estimator/solve_diagnostics.hpp"
 #include "estimator/gnss_calibration_covariance.hpp"
+#include "estimator/imu_triad_globals.hpp"
 #include "estimator/state_estimate.hpp"
 
 namespace statebench::est {
@@ -212,6 +213,7 @@ struct FactorGraphEstimator::Impl {
       return;  // covariance not positive definite: same
     }
     ctx.initialized = true;
+    AddImuTriadGlobals(options.imu_triad, setup.imu_id, &ctx);
     ctx.local_frame = init->local_frame && !position_sensors.empty();
     ctx.diag.local_frame = init->local_frame;
     ctx.diag.Initialized(x.t_ns, init->method);
@@ -246,6 +248,7 @@ struct FactorGraphEstimator::Impl {
       ctx.diag.Lost(lagged_ns, "enu_switch");
       return StartOver();
     }
+    AddImuTriadGlobals(options.imu_triad, setup.imu_id, &ctx);
     ctx.output.SetAnchor(enu);
     blend.Start(lagged_ns);
     next_solve_ns = lagged_ns + FromSeconds(options.solve_interval_s);

@@ -243,6 +243,23 @@ OptionTable<NonHolonomicOptions> NonHolonomicTable() {
   return t;
 }
 
+OptionTable<ImuTriadOptions> ImuTriadTable() {
+  using T = ImuTriadOptions;
+  const Range p = Range::Positive();
+  OptionTable<T> t("imu_triad");
+  t.Flag("estimate_gyro", &T::estimate_gyro,
+         "the gyro's scale factors and cross-axis terms as nine window globals")
+      .Flag("estimate_accel", &T::estimate_accel, "the accelerometer's, likewise")
+      .Number("gyro_scale_sigma", &T::gyro_scale_sigma, p, "prior sigma of a scale factor (1)")
+      .Number("gyro_misalignment_sigma_rad", &T::gyro_misalignment_sigma_rad, p,
+              "prior sigma of a cross-axis term")
+      .Number("accel_scale_sigma", &T::accel_scale_sigma, p, "prior sigma of a scale factor (1)")
+      .Number("accel_misalignment_sigma_rad", &T::accel_misalignment_sigma_rad, p,
+              "prior sigma of a cross-axis term")
+      .Number("max_sigmas", &T::max_sigmas, p, "each held within this many prior sigmas");
+  return t;
+}
+
 OptionTable<ZeroVelocityOptions> ZeroVelocityTable() {
   using Z = ZeroVelocityOptions;
   const Range p = Range::Positive();
@@ -347,6 +364,8 @@ OptionTable<FactorGraphOptions> MakeFactorGraphTable() {
                "IMU noise (Kalibr units); a setup's imu entry may override it")
       .Section("imu_noise_estimation", &F::imu_noise_estimation, ImuNoiseEstimationTable(),
                "the IMU noise measured online; inflates imu_noise, never deflates it")
+      .Section("imu_triad", &F::imu_triad, ImuTriadTable(),
+               "the IMU's scale factors and cross-axis terms as states")
       .Section("initialization", &F::initialization, InitializationTable(), "first state")
       .Section("gnss", &F::gnss, GateTable("max_sigma_m", "m", true), "GNSS position factors")
       .Section("heading", &F::heading, GateTable("max_sigma_rad", "rad"),

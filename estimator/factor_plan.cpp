@@ -40,13 +40,15 @@ FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptio
   if (o.solver == WindowSolver::kCeres && o.batch) {
     const bool globals = (o.lidar.estimate_mount && !plan.lidars.empty()) ||
                          (o.non_holonomic.enabled && o.non_holonomic.estimate_mount) ||
-                         o.gnss.estimate_time_offset || o.gnss.estimate_correlated_error;
+                         o.gnss.estimate_time_offset || o.gnss.estimate_correlated_error ||
+                         o.imu_triad.any();
     if (globals) {
       throw InputError(where +
-                       "solver: ceres with batch: true cannot estimate mounts, time offsets or "
-                       "GNSS errors (lidar.estimate_mount, non_holonomic.estimate_mount, "
-                       "gnss.estimate_time_offset, gnss.estimate_correlated_error): set them "
-                       "false or use solver: chain");
+                       "solver: ceres with batch: true cannot estimate mounts, time offsets, "
+                       "GNSS errors or IMU triad errors (lidar.estimate_mount, "
+                       "non_holonomic.estimate_mount, gnss.estimate_time_offset, "
+                       "gnss.estimate_correlated_error, imu_triad): set them false or use "
+                       "solver: chain");
     }
   }
   const bool has_encoders = plan.speed != nullptr && plan.steering != nullptr;

@@ -53,6 +53,15 @@ int SlidingWindowSmoother::AddGlobal(const std::string& name, double prior_sigma
   return static_cast<int>(m.globals.size()) - 1;
 }
 
+void SlidingWindowSmoother::SetImuTriad(std::vector<ImuTriadGlobal> terms) {
+  for (const ImuTriadGlobal& t : terms) {
+    if (!impl_->KnownGlobal(t.global)) {
+      throw InputError("sliding window smoother: imu triad term on an unknown global index");
+    }
+  }
+  impl_->imu_triad = std::move(terms);
+}
+
 std::vector<SlidingWindowSmoother::GlobalEstimate> SlidingWindowSmoother::Globals() const {
   std::vector<GlobalEstimate> out;
   for (std::size_t i = 0; i < impl_->globals.size(); ++i) {

@@ -29,6 +29,7 @@
 #include "estimator/gnss_time_offset_factor.hpp"
 #include "estimator/imu_factor.hpp"
 #include "estimator/imu_preintegration.hpp"
+#include "estimator/imu_triad_factor.hpp"
 #include "estimator/linear_system.hpp"
 #include "estimator/marginalization_prior.hpp"
 #include "estimator/sliding_window_smoother.hpp"
@@ -140,6 +141,8 @@ struct SlidingWindowSmoother::Impl {
     double correlation_time_s = 0.0;  // > 0: Gauss-Markov (AddGlobal), else constant
   };
   std::vector<Global> globals;
+  // The IMU factors created from now on carry these triad errors (SetImuTriad).
+  std::vector<ImuTriadGlobal> imu_triad;
 
   bool KnownGlobal(int index) const {
     return index >= 0 && index < static_cast<int>(globals.size());
@@ -231,10 +234,21 @@ struct SlidingWindowSmoother::Impl {
     node->x = StateParameters::FromNavState(pim.Predict(prev.State()));
     AddBlocks(*node);
     const double dt = pim.dt();
-    AddFactor(prev, FactorKind::kImu, new ImuFactor(std::move(pim)), nullptr,
-              {prev.x.q_world_imu.data(), prev.x.p_world.data(), prev.x.v_world.data(),
-               prev.x.bias.data(), node->x.q_world_imu.data(), node->x.p_world.data(),
-               node->x.v_world.data()});
+    std::vector<double*> blocks{prev.x.q_world_imu.data(), prev.x.p_world.data(),
+                                prev.x.v_world.data(),     prev.x.bias.data(),
+                                node->x.q_world_imu.data(), node->x.p_world.data(),
+                                node->x.v_world.data()};
+    if (imu_triad.empty()) {
+      AddFactor(prev, FactorKind::kImu, new ImuFactor(std::move(pim)), nullptr, blocks);
+    } else {
+      std::vector<ImuTriadTerm> terms;
+      for (const ImuTriadGlobal& g : imu_triad) {
+        terms.push_back(g.term);
+        blocks.push_back(globals[static_cast<std::size_t>(g.global)].value.get());
+      }
+      AddFactor(prev, FactorKind::kImu, new ImuTriadFactor(std::move(pim), std::move(terms)),
+                nullptr, blocks);
+    }
     AddFactor(prev, FactorKind::kBias, new BiasRandomWalkFactor(options.imu_noise, dt), nullptr,
               {prev.x.bias.data(), node->x.bias.data()});
     states.push_back(std::move(node));

@@ -30,6 +30,7 @@
 #include "estimator/body_velocity_factor.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/imu_noise.hpp"
+#include "estimator/imu_triad_factor.hpp"
 #include "estimator/relative_pose_factor.hpp"
 #include "estimator/robust_kernel.hpp"
 #include "estimator/window_solver.hpp"
@@ -150,6 +151,15 @@ class SlidingWindowSmoother {
   // The one AddGlobal gave `index` (what the front ends read per measurement). InputError on an
   // index it did not give.
   GlobalEstimate Global(int index) const;
+  // The IMU's triad errors (imu_triad_factor.hpp): each term an entry of the gyro's or the
+  // accelerometer's error matrix K, the value of a global AddGlobal gave. The IMU factors created
+  // from now on are ImuTriadFactors on these globals (those in the window keep theirs). An empty
+  // list: plain ImuFactors again. InputError on an index AddGlobal did not give.
+  struct ImuTriadGlobal {
+    int global = -1;
+    ImuTriadTerm term;
+  };
+  void SetImuTriad(std::vector<ImuTriadGlobal> terms);
   // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
   // measurement DualAntennaFactor refuses.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,

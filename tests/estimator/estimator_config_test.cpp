@@ -159,6 +159,15 @@ TEST(FactorGraphOptions, TheDefaultFileHoldsTheDefaults) {
   EXPECT_DOUBLE_EQ(file.imu_noise.gyro_noise_density, d.imu_noise.gyro_noise_density);
   EXPECT_DOUBLE_EQ(file.imu_noise.accel_random_walk, d.imu_noise.accel_random_walk);
   EXPECT_DOUBLE_EQ(file.imu_noise.integration_density, d.imu_noise.integration_density);
+  EXPECT_EQ(file.imu_triad.estimate_gyro, d.imu_triad.estimate_gyro);
+  EXPECT_EQ(file.imu_triad.estimate_accel, d.imu_triad.estimate_accel);
+  EXPECT_DOUBLE_EQ(file.imu_triad.gyro_scale_sigma, d.imu_triad.gyro_scale_sigma);
+  EXPECT_DOUBLE_EQ(file.imu_triad.gyro_misalignment_sigma_rad,
+                   d.imu_triad.gyro_misalignment_sigma_rad);
+  EXPECT_DOUBLE_EQ(file.imu_triad.accel_scale_sigma, d.imu_triad.accel_scale_sigma);
+  EXPECT_DOUBLE_EQ(file.imu_triad.accel_misalignment_sigma_rad,
+                   d.imu_triad.accel_misalignment_sigma_rad);
+  EXPECT_DOUBLE_EQ(file.imu_triad.max_sigmas, d.imu_triad.max_sigmas);
   EXPECT_EQ(file.initialization.mode, d.initialization.mode);
   EXPECT_DOUBLE_EQ(file.initialization.course_min_distance_m,
                    d.initialization.course_min_distance_m);

@@ -40,6 +40,10 @@ struct ScenarioOptions {
   ImuNoise imu_noise;
   Vec3 gyro_bias = Vec3::Zero();
   Vec3 accel_bias = Vec3::Zero();
+  // Triad errors: the IMU measures (I + K) u (scale factors on K's diagonal, cross-axis terms off
+  // it); zero leaves the samples' bits as they are.
+  Mat3 gyro_triad = Mat3::Zero();
+  Mat3 accel_triad = Mat3::Zero();
   // GNSS: white noise (sigma per axis) and the covariance the receiver reports.
   double gnss_sigma_h = 0.0, gnss_sigma_v = 0.0;
   double reported_sigma_h = 0.01, reported_sigma_v = 0.015;
@@ -95,6 +99,8 @@ inline Scenario MakeScenario(const ScenarioOptions& o) {
     const double t = ToSeconds(s.header.stamp_ns);
     s.gyro = sc.trajectory.Gyro(t) + bg;
     s.accel = sc.trajectory.Accel(t) + ba;
+    if (!o.gyro_triad.isZero(0.0)) s.gyro += o.gyro_triad * sc.trajectory.Gyro(t);
+    if (!o.accel_triad.isZero(0.0)) s.accel += o.accel_triad * sc.trajectory.Accel(t);
     if (o.imu_noisy) {
       s.gyro += n.gyro_noise_density / std::sqrt(dt) * r3();
       s.accel += n.accel_noise_density / std::sqrt(dt) * r3();
