@@ -169,6 +169,10 @@ struct GnssCalibrationUncertainty {
   double mount_translation_sigma_m = 0.01;  // per axis, each sensor's mount
   double mount_rotation_sigma_deg = 0.2;    // per axis, the IMU's mount
   double clock_offset_sigma_s = 0.003;      // the receiver's clock against the IMU's
+  // A dual-antenna pair's baseline direction (yaw, pitch) as two globals of the window with the
+  // priors these sigmas give it, instead of widening each heading and adding it to the output
+  // covariance (gnss_front_end.hpp).
+  bool estimate_heading_baseline = false;
 };
 
 // The IMU's scale factors and cross-axis terms (its triad errors) as globals of the window
@@ -224,8 +228,8 @@ struct FactorGraphOptions {
   ImuNoiseEstimationOptions imu_noise_estimation;  // imu_noise_monitor.hpp
   ImuTriadOptions imu_triad;
   InitializationOptions initialization;
-  MeasurementGateOptions gnss{.adapt_covariance = true};             // defaults above
-  MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};  // rad; chi-square(2)
+  MeasurementGateOptions gnss{.adapt_covariance = true};                   // defaults above
+  MeasurementGateOptions heading{0.2, 13.82, 10.0, RobustKernel{}};        // rad; chi-square(2)
   MeasurementGateOptions gnss_velocity{1.0, 16.27, 10.0, RobustKernel{}};  // m/s; chi-square(3)
   GnssCalibrationUncertainty gnss_calibration;
   LidarFactorOptions lidar;

@@ -11,11 +11,11 @@
 #include "estimator/estimate_status.hpp"
 #include "estimator/factor_plan.hpp"
 #include "estimator/front_end_set.hpp"
+#include "estimator/gnss_calibration_covariance.hpp"
+#include "estimator/imu_triad_globals.hpp"
 #include "estimator/measurement_intake.hpp"
 #include "estimator/output_blend.hpp"
 #include "estimator/solve_diagnostics.hpp"
-#include "estimator/gnss_calibration_covariance.hpp"
-#include "estimator/imu_triad_globals.hpp"
 #include "estimator/state_estimate.hpp"
 
 namespace statebench::est {
@@ -67,13 +67,14 @@ struct FactorGraphEstimator::Impl {
 
   // The output's share of the calibration errors the smoother cannot average away
   // (gnss_calibration_covariance.hpp): the first antenna's lever arm, the first heading pair's
-  // baseline (yaw, and pitch once a heading with a pitch was accepted).
+  // baseline (yaw, and pitch once a heading with a pitch was accepted) unless the smoother
+  // estimates it (gnss_calibration.estimate_heading_baseline).
   Mat15 CalibrationConsider(const NavState& state) const {
     if (setup.antennas.empty()) return Mat15::Zero();
     Vec3 baseline;
     const Vec3* b = nullptr;
     bool pitch = false;
-    if (!setup.dual_antennas.empty()) {
+    if (!setup.dual_antennas.empty() && !options.gnss_calibration.estimate_heading_baseline) {
       const DualAntennaPair& pair = setup.dual_antennas.front();
       baseline = pair.p_imu_aux - pair.p_imu_main;
       b = &baseline;
@@ -86,8 +87,8 @@ struct FactorGraphEstimator::Impl {
     // replaces it while the encoders run, is turned by the same globals then).
     const NonHolonomicOptions& nhc = options.non_holonomic;
     if (nhc.enabled && !nhc.estimate_mount) {
-      C.topLeftCorner<3, 3>() += MotionConstraintConsiderCovariance(
-          options.gnss_calibration, setup.T_body_imu.rotation());
+      C.topLeftCorner<3, 3>() +=
+          MotionConstraintConsiderCovariance(options.gnss_calibration, setup.T_body_imu.rotation());
     }
     return C;
   }
@@ -97,7 +98,7 @@ struct FactorGraphEstimator::Impl {
   BatchOutput batch{setup.imu_noise.value_or(options.imu_noise)};
   bool ended = false;
 
-  TimeNs lagged_ns = INT64_MIN;  // newest IMU stamp released to the smoother
+  TimeNs lagged_ns = INT64_MIN;                // newest IMU stamp released to the smoother
   std::optional<ImuSample> last_released_imu;  // the sample at lagged_ns
   TimeNs next_solve_ns = 0;
   bool keep_smoothed = false;
@@ -123,7 +124,9 @@ struct FactorGraphEstimator::Impl {
       ctx.output.AddImu(std::get<ImuSample>(m));
       Release(intake.Release(ctx.newest_imu_ns));
     } else if (admission == Admission::kLate) {  // no order guarantee: at once
-      if (!ctx.initialized) return ctx.Reject(HeaderOf(m).sensor_id, HeaderOf(m).stamp_ns, RejectReason::kNotInitialized);
+      if (!ctx.initialized)
+        return ctx.Reject(HeaderOf(m).sensor_id, HeaderOf(m).stamp_ns,
+                          RejectReason::kNotInitialized);
       ProcessStamp({m});
     }
   }
@@ -326,8 +329,8 @@ struct FactorGraphEstimator::Impl {
     const NavState newest = ctx.smoother.NewestState();
     const Mat15 covariance = ctx.smoother.NewestCovariance();
     const auto stop = std::chrono::steady_clock::now();
-    ctx.diag.updates.Add(SolveDiagnostics(
-        summary, newest.t_ns, std::chrono::duration<double>(stop - start).count()));
+    ctx.diag.updates.Add(SolveDiagnostics(summary, newest.t_ns,
+                                          std::chrono::duration<double>(stop - start).count()));
 
     ctx.RecordGlobals();
     for (MeasurementFrontEnd* f : front_ends) f->OnMarginalized(left);

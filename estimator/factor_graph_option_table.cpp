@@ -57,8 +57,8 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
               "estimate each receiver's time offset to the IMU in the smoother")
         .Number("time_offset_prior_sigma_s", &MeasurementGateOptions::time_offset_prior_sigma_s,
                 Range::Positive(), "prior sigma of the time offset around 0 (s)")
-        .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s,
-                Range::Positive(), "the time offset is held within +- this (s)")
+        .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s, Range::Positive(),
+                "the time offset is held within +- this (s)")
         .Flag("estimate_correlated_error", &MeasurementGateOptions::estimate_correlated_error,
               "estimate each receiver's slowly varying error (Gauss-Markov, ENU) in the smoother")
         .Number("correlated_error_sigma_m", &MeasurementGateOptions::correlated_error_sigma_m,
@@ -80,7 +80,10 @@ OptionTable<GnssCalibrationUncertainty> GnssCalibrationTable() {
       .Number("mount_rotation_sigma_deg", &G::mount_rotation_sigma_deg, Range::NonNegative(),
               "per axis, the IMU's mount (deg)")
       .Number("clock_offset_sigma_s", &G::clock_offset_sigma_s, Range::NonNegative(),
-              "a receiver's clock against the IMU's (s)");
+              "a receiver's clock against the IMU's (s)")
+      .Flag("estimate_heading_baseline", &G::estimate_heading_baseline,
+            "a heading pair's baseline yaw and pitch as two window globals (prior from the "
+            "mount sigmas) instead of widening its headings");
   return t;
 }
 

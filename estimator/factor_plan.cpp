@@ -41,13 +41,14 @@ FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptio
     const bool globals = (o.lidar.estimate_mount && !plan.lidars.empty()) ||
                          (o.non_holonomic.enabled && o.non_holonomic.estimate_mount) ||
                          o.gnss.estimate_time_offset || o.gnss.estimate_correlated_error ||
-                         o.imu_triad.any();
+                         o.imu_triad.any() || o.gnss_calibration.estimate_heading_baseline;
     if (globals) {
       throw InputError(where +
                        "solver: ceres with batch: true cannot estimate mounts, time offsets, "
                        "GNSS errors or IMU triad errors (lidar.estimate_mount, "
                        "non_holonomic.estimate_mount, gnss.estimate_time_offset, "
-                       "gnss.estimate_correlated_error, imu_triad): set them false or use "
+                       "gnss.estimate_correlated_error, imu_triad, "
+                       "gnss_calibration.estimate_heading_baseline): set them false or use "
                        "solver: chain");
     }
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "estimator/dual_antenna_factor.hpp"
 #include "estimator/gnss_calibration_covariance.hpp"
 #include "estimator/gnss_enu.hpp"
 #include "estimator/measurement_checks.hpp"
@@ -34,13 +35,14 @@ Claim GnssFrontEnd::Claims(const Measurement& m) const {
 }
 
 // The fix in ENU with the antenna's covariance overrides; nullopt (counted) if the covariance
-// threshold discards it, its height unused (counted) when its vertical sigma is too large. The first fix that passes sets the origin if the options give none.
+// threshold discards it, its height unused (counted) when its vertical sigma is too large. The
+// first fix that passes sets the origin if the options give none.
 std::optional<GnssPositionEnu> GnssFrontEnd::ToEnu(const GnssFix& fix) {
   GnssFix adjusted = fix;
   adjusted.covariance_enu =
       AntennaCovariance(*setup_.FindAntenna(fix.header.sensor_id), fix.covariance_enu);
-  switch (FixUse(adjusted.covariance_enu, options_.gnss.max_sigma,
-                 options_.gnss.max_vertical_sigma)) {
+  switch (
+      FixUse(adjusted.covariance_enu, options_.gnss.max_sigma, options_.gnss.max_vertical_sigma)) {
     case GnssFixUse::kDiscarded:
       ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kCovarianceThreshold);
       return std::nullopt;
@@ -53,7 +55,8 @@ std::optional<GnssPositionEnu> GnssFrontEnd::ToEnu(const GnssFix& fix) {
   }
   if (!frame_) frame_.emplace(GeodeticPoint{fix.latitude_deg, fix.longitude_deg, fix.altitude_m});
   std::optional<GnssPositionEnu> enu = GnssFixToEnu(adjusted, *frame_);
-  if (!enu) ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kInvalidCovariance);
+  if (!enu)
+    ctx_.Reject(fix.header.sensor_id, fix.header.stamp_ns, RejectReason::kInvalidCovariance);
   return enu;
 }
 
@@ -161,8 +164,7 @@ void GnssFrontEnd::AddPosition(const PositionInput& in) {
     }
   }
   refused_.Clear();
-  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id), ErrorStateOf(id)) ==
-      AddResult::kTooOld) {
+  if (ctx_.smoother.AddGnss(fix, lever, TimeOffsetOf(id), ErrorStateOf(id)) == AddResult::kTooOld) {
     return ctx_.Reject(id, fix.header.stamp_ns, RejectReason::kTooOld);
   }
   gnss_gate_ = {std::max(gnss_gate_.last_accepted_ns, fix.header.stamp_ns), false};
@@ -236,22 +238,32 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   }
   if (ctx_.local_frame) return ctx_.Reject(id, t, RejectReason::kNotInitialized);
   DualAntennaHeading heading = in.heading;
-  const HeadingCalibrationVariance calibration =
-      HeadingCalibration(options_.gnss_calibration, in.baseline_imu);
-  heading.yaw_sigma_rad = std::sqrt(heading.yaw_sigma_rad * heading.yaw_sigma_rad + calibration.yaw_rad2);
-  if (std::isfinite(heading.pitch_sigma_rad) && heading.pitch_sigma_rad > 0.0) {  // else no pitch
-    heading.pitch_sigma_rad =
-        std::sqrt(heading.pitch_sigma_rad * heading.pitch_sigma_rad + calibration.pitch_rad2);
+  const std::optional<std::array<int, 2>> baseline = BaselineOf(id, in.baseline_imu);
+  Vec3 baseline_imu = in.baseline_imu;  // as the gate sees it
+  if (baseline) {
+    baseline_imu = DualAntennaFactor::TurnedBaseline(in.baseline_imu,
+                                                     ctx_.smoother.Global((*baseline)[0]).value,
+                                                     ctx_.smoother.Global((*baseline)[1]).value);
+  } else {
+    const HeadingCalibrationVariance calibration =
+        HeadingCalibration(options_.gnss_calibration, in.baseline_imu);
+    heading.yaw_sigma_rad =
+        std::sqrt(heading.yaw_sigma_rad * heading.yaw_sigma_rad + calibration.yaw_rad2);
+    if (std::isfinite(heading.pitch_sigma_rad) && heading.pitch_sigma_rad > 0.0) {  // else no pitch
+      heading.pitch_sigma_rad =
+          std::sqrt(heading.pitch_sigma_rad * heading.pitch_sigma_rad + calibration.pitch_rad2);
+    }
   }
   if (const auto predicted = ctx_.PredictAt(t)) {
-    const double d2 = HeadingMahalanobisSquared(*predicted, in.baseline_imu, heading);
+    const double d2 = HeadingMahalanobisSquared(*predicted, baseline_imu, heading);
     if (!PassesGate(options_.heading, heading_gate_, t, d2)) {
       return ctx_.Reject(id, t, RejectReason::kMahalanobisGate);
     }
   }
   const Vec3 main = Vec3::Zero();  // the factor only uses the baseline direction
   try {
-    if (ctx_.smoother.AddDualAntenna(heading, main, in.baseline_imu) == AddResult::kTooOld) {
+    if (ctx_.smoother.AddDualAntenna(heading, main, in.baseline_imu, baseline) ==
+        AddResult::kTooOld) {
       return ctx_.Reject(id, t, RejectReason::kTooOld);
     }
   } catch (const InputError&) {
@@ -265,7 +277,7 @@ void GnssFrontEnd::AddHeading(const HeadingInput& in) {
   a.sensor_id = id;
   a.is_heading = true;
   a.heading = heading;
-  a.baseline_imu = in.baseline_imu;
+  a.baseline_imu = baseline_imu;
   accepted_.push_back(a);
 }
 
@@ -275,14 +287,28 @@ std::optional<int> GnssFrontEnd::TimeOffsetOf(const std::string& antenna_id) {
                      options_.gnss.time_offset_max_s);
 }
 
+std::optional<std::array<int, 2>> GnssFrontEnd::BaselineOf(const std::string& heading_id,
+                                                           const Vec3& baseline_imu) {
+  if (!options_.gnss_calibration.estimate_heading_baseline) return std::nullopt;
+  const HeadingCalibrationVariance prior =
+      HeadingCalibration(options_.gnss_calibration, baseline_imu);
+  if (!(prior.yaw_rad2 > 0.0) || !(prior.pitch_rad2 > 0.0)) return std::nullopt;
+  const double sigma[2] = {std::sqrt(prior.yaw_rad2), std::sqrt(prior.pitch_rad2)};
+  std::array<int, 2> indices{};
+  for (int k = 0; k < 2; ++k) {
+    indices[k] = ctx_.Global(heading_id, kBaselineGlobals[k], sigma[k], 5.0 * sigma[k]);
+  }
+  return indices;
+}
+
 std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
   const MeasurementGateOptions& g = options_.gnss;
   if (!g.estimate_correlated_error) return std::nullopt;
   std::array<int, 3> indices{};
   for (int k = 0; k < 3; ++k) {
     const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
-    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma,
-                             g.correlated_error_tau_s);
+    indices[k] =
+        ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma, g.correlated_error_tau_s);
   }
   return indices;
 }

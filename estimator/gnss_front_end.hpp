@@ -16,6 +16,9 @@
 // after a restart, from 0); the gate predicts the antenna at the stamp minus the offset estimate;
 // the estimate and its sigma go to the antenna's diagnostics (globals: time_offset_s) after
 // each solve.
+// With gnss_calibration.estimate_heading_baseline each heading pair's baseline direction (yaw,
+// pitch) is a pair of globals (DualAntennaFactor::CreateWithBaselineCorrection) and its headings
+// keep their reported sigmas; the gate turns the baseline by the current estimates.
 // Accepted measurements are kept until they leave the window to count those the robust kernel
 // down-weighted at the final estimate.
 // While the estimate is in a local frame (a start before the GNSS could give the yaw:
@@ -104,6 +107,13 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   // The fix as the gate sees it: less the antenna's current error estimate, its covariance
   // plus the estimate's (unchanged when the error is not estimated).
   GnssPositionEnu LessErrorEstimate(const GnssPositionEnu& fix) const;
+  // The smoother's baseline corrections (yaw, pitch) of the heading pair (globals created on
+  // its first heading, reported as the pair's "baseline_yaw_rad", "baseline_pitch_rad") when
+  // gnss_calibration.estimate_heading_baseline and the mount sigmas give them a prior; their
+  // prior variances are what HeadingCalibration would widen each heading by.
+  static constexpr const char* kBaselineGlobals[2] = {"baseline_yaw_rad", "baseline_pitch_rad"};
+  std::optional<std::array<int, 2>> BaselineOf(const std::string& heading_id,
+                                               const Vec3& baseline_imu);
   // The raw gyro of the released sample nearest t_ns (zero before any).
   Vec3 RecentGyro(TimeNs t_ns) const;
   void AddHeading(const HeadingInput& in);
@@ -119,7 +129,7 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   GateState gnss_gate_, heading_gate_, velocity_gate_;
   DopplerWindow doppler_;
   std::deque<ImuSample> recent_imu_;  // the last kRecentImuNs of released samples
-  std::deque<Accepted> accepted_;  // in the smoother, oldest first
+  std::deque<Accepted> accepted_;     // in the smoother, oldest first
   // Fixes the gate refused since the last accepted one: when they agree, the estimate is lost.
   RefusedFixTrack refused_;
   EnuAlignment alignment_;  // while the estimate is in a local frame

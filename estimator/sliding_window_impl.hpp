@@ -87,7 +87,7 @@ struct SlidingWindowSmoother::Impl {
   static ceres::Problem::Options ProblemOptions() {
     ceres::Problem::Options p;
     p.enable_fast_removal = true;
-    p.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // one shared manifold
+    p.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;       // one shared manifold
     p.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;  // Factor owns them
     p.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     return p;
@@ -125,18 +125,19 @@ struct SlidingWindowSmoother::Impl {
   // and their marginal covariances in the window they left.
   std::vector<NavState> lagged_states;
   std::vector<Mat15> lagged_covariances;
-  int num_dropped = 0;  // pending measurements found too old, since the last Solve
+  int num_dropped = 0;   // pending measurements found too old, since the last Solve
   int num_left_out = 0;  // factors non-finite at marginalisation (Linearize), since the last Solve
   // The newest state's information from the last chain solve's final linearisation; cleared by
   // any change of the window's factors.
   std::optional<Mat15> newest_information;
-  // Global scalars (GNSS time offsets, mount rotation corrections): values at stable addresses, in the border's order.
+  // Global scalars (GNSS time offsets, mount rotation corrections): values at stable addresses, in
+  // the border's order.
   struct Global {
     std::string name;
     double max_abs = 0.0;
     std::unique_ptr<double> value;
-    double sigma = 0.0;    // marginal, from the last solve (0 before one)
-    int num_clamped = 0;   // solves after which it was held at +-max_abs
+    double sigma = 0.0;   // marginal, from the last solve (0 before one)
+    int num_clamped = 0;  // solves after which it was held at +-max_abs
     double prior_sigma = 0.0;
     double correlation_time_s = 0.0;  // > 0: Gauss-Markov (AddGlobal), else constant
   };
@@ -234,8 +235,8 @@ struct SlidingWindowSmoother::Impl {
     node->x = StateParameters::FromNavState(pim.Predict(prev.State()));
     AddBlocks(*node);
     const double dt = pim.dt();
-    std::vector<double*> blocks{prev.x.q_world_imu.data(), prev.x.p_world.data(),
-                                prev.x.v_world.data(),     prev.x.bias.data(),
+    std::vector<double*> blocks{prev.x.q_world_imu.data(),  prev.x.p_world.data(),
+                                prev.x.v_world.data(),      prev.x.bias.data(),
                                 node->x.q_world_imu.data(), node->x.p_world.data(),
                                 node->x.v_world.data()};
     if (imu_triad.empty()) {
@@ -283,11 +284,19 @@ struct SlidingWindowSmoother::Impl {
   }
 
   void AttachHeading(Node& anchor, const DualAntennaHeading& heading, const Vec3& p_imu_main,
-                     const Vec3& p_imu_aux) {
+                     const Vec3& p_imu_aux, std::optional<std::array<int, 2>> baseline) {
     const Quat dR = Preintegrate(anchor, heading.header.stamp_ns).delta_q();
+    if (!baseline) {
+      AddFactor(anchor, FactorKind::kHeading,
+                DualAntennaFactor::Create(heading, p_imu_main, p_imu_aux, dR),
+                options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
+      return;
+    }
     AddFactor(anchor, FactorKind::kHeading,
-              DualAntennaFactor::Create(heading, p_imu_main, p_imu_aux, dR),
-              options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
+              DualAntennaFactor::CreateWithBaselineCorrection(heading, p_imu_main, p_imu_aux, dR),
+              options.heading_kernel.MakeLossFunction().release(),
+              {anchor.x.q_world_imu.data(), globals[(*baseline)[0]].value.get(),
+               globals[(*baseline)[1]].value.get()});
   }
 
   // InputError unless the mount's indices are globals (pitch and yaw required; roll only where
@@ -334,8 +343,8 @@ struct SlidingWindowSmoother::Impl {
                                                Preintegrate(a, r.t2_ns), axes);
     } else {
       for (double* block : b->Blocks()) blocks.push_back(block);
-      cost = CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns),
-                                      axes);
+      cost =
+          CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns), axes);
     }
     AppendMountBlocks(r.mount, &blocks);
     AddFactor(a, FactorKind::kRelativePose, cost, loss, std::move(blocks));
@@ -355,9 +364,9 @@ struct SlidingWindowSmoother::Impl {
     m.gyro_raw = GyroAt(t_ns);
     std::vector<double*> blocks{a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()};
     AppendMountBlocks(mount, &blocks);  // pitch and yaw (no roll: CheckMount)
-    ceres::CostFunction* cost = mount
-                                    ? CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns))
-                                    : CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
+    ceres::CostFunction* cost =
+        mount ? CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns))
+              : CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
     AddFactor(a, FactorKind::kVelocity, cost, kernel.MakeLossFunction().release(),
               std::move(blocks));
   }
@@ -412,8 +421,8 @@ struct SlidingWindowSmoother::Impl {
   // leaves on `next` and the globals.
   void AddMarginalizationPrior(Node& next, const LinearSystem& kept) {
     if (globals.empty()) {
-      AddFactor(next, FactorKind::kPrior, new MarginalizationPrior(next.x, kept.H, kept.g),
-                nullptr, next.Blocks());
+      AddFactor(next, FactorKind::kPrior, new MarginalizationPrior(next.x, kept.H, kept.g), nullptr,
+                next.Blocks());
       return;
     }
     Eigen::VectorXd values(globals.size());

@@ -1,7 +1,6 @@
 #include "estimator/sliding_window_smoother.hpp"
 
 #include <ceres/ordered_groups.h>
-
 #include <ceres/solver.h>
 
 #include <Eigen/Cholesky>
@@ -101,28 +100,32 @@ AddResult SlidingWindowSmoother::AddGnss(const GnssPositionEnu& fix, const Vec3&
   if (time_offset && !m.KnownGlobal(*time_offset)) {
     throw InputError("gnss fix: unknown time offset index");
   }
-  if (error && !(m.KnownGlobal((*error)[0]) && m.KnownGlobal((*error)[1]) &&
-                 m.KnownGlobal((*error)[2]))) {
+  if (error &&
+      !(m.KnownGlobal((*error)[0]) && m.KnownGlobal((*error)[1]) && m.KnownGlobal((*error)[2]))) {
     throw InputError("gnss fix: unknown error state index");
   }
   const TimeNs t = fix.header.stamp_ns;
-  return m.Add({Impl::FactorKind::kGnss, t, t,
-                [&m, fix, p_imu_antenna, time_offset, error](Impl::Node& a) {
-                  m.AttachGnss(a, fix, p_imu_antenna, time_offset, error);
-                }});
+  return m.Add(
+      {Impl::FactorKind::kGnss, t, t, [&m, fix, p_imu_antenna, time_offset, error](Impl::Node& a) {
+         m.AttachGnss(a, fix, p_imu_antenna, time_offset, error);
+       }});
 }
 
 AddResult SlidingWindowSmoother::AddDualAntenna(const DualAntennaHeading& heading,
-                                                const Vec3& p_imu_main, const Vec3& p_imu_aux) {
+                                                const Vec3& p_imu_main, const Vec3& p_imu_aux,
+                                                std::optional<std::array<int, 2>> baseline) {
   Impl& m = *impl_;
   if (!initialized()) throw InputError("sliding window smoother: heading before initialization");
   DualAntennaFactor validate(heading, p_imu_main, p_imu_aux);  // throws on bad input
   (void)validate;
+  if (baseline && (!m.KnownGlobal((*baseline)[0]) || !m.KnownGlobal((*baseline)[1]))) {
+    throw InputError("dual antenna heading: unknown baseline correction index");
+  }
   const TimeNs t = heading.header.stamp_ns;
-  return m.Add(
-      {Impl::FactorKind::kHeading, t, t, [&m, heading, p_imu_main, p_imu_aux](Impl::Node& a) {
-         m.AttachHeading(a, heading, p_imu_main, p_imu_aux);
-       }});
+  return m.Add({Impl::FactorKind::kHeading, t, t,
+                [&m, heading, p_imu_main, p_imu_aux, baseline](Impl::Node& a) {
+                  m.AttachHeading(a, heading, p_imu_main, p_imu_aux, baseline);
+                }});
 }
 
 AddResult SlidingWindowSmoother::AddRelativePose(TimeNs t1_ns, TimeNs t2_ns,
@@ -155,9 +158,10 @@ AddResult SlidingWindowSmoother::AddBodyVelocity(TimeNs t_ns, const BodyVelocity
       throw InputError("body velocity: a mount correction needs a vehicle-frame measurement");
     }
   }
-  return s.Add({Impl::FactorKind::kVelocity, t_ns, t_ns, [&s, t_ns, m, kernel, mount](Impl::Node& a) {
-                  s.AttachVelocity(a, t_ns, m, kernel, mount);
-                }});
+  return s.Add(
+      {Impl::FactorKind::kVelocity, t_ns, t_ns, [&s, t_ns, m, kernel, mount](Impl::Node& a) {
+         s.AttachVelocity(a, t_ns, m, kernel, mount);
+       }});
 }
 
 AddResult SlidingWindowSmoother::AddZeroRate(TimeNs t_end_ns, const Vec3& mean_gyro_radps,
@@ -261,7 +265,7 @@ SmootherSolveSummary SlidingWindowSmoother::Solve() {
       m.lagged_covariances.push_back(marginals[static_cast<std::size_t>(out.num_marginalized)]);
     }
     m.MarginalizeOldest(out.num_marginalized == 0 && oldest_linearized ? &*oldest_linearized
-                                                                        : nullptr);
+                                                                       : nullptr);
     ++out.num_marginalized;
     out.num_marginalized_unusable += out.usable ? 0 : 1;
   }
@@ -293,8 +297,8 @@ const ImuPreintegration* SlidingWindowSmoother::FromNewestState() const {
 
 Mat15 SlidingWindowSmoother::NewestCovariance() const {
   if (!initialized()) throw InputError("sliding window smoother: not initialized");
-  const Mat15 information = impl_->newest_information ? *impl_->newest_information
-                                                      : impl_->NewestInformation();
+  const Mat15 information =
+      impl_->newest_information ? *impl_->newest_information : impl_->NewestInformation();
   const Eigen::LDLT<Mat15> ldlt(0.5 * (information + information.transpose()));
   Mat15 covariance = ldlt.solve(Mat15::Identity());
   return 0.5 * (covariance + covariance.transpose());

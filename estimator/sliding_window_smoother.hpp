@@ -161,9 +161,12 @@ class SlidingWindowSmoother {
   };
   void SetImuTriad(std::vector<ImuTriadGlobal> terms);
   // Dual-antenna heading with both antennas' positions in the IMU frame. InputError on a
-  // measurement DualAntennaFactor refuses.
+  // measurement DualAntennaFactor refuses. With baseline (two indices AddGlobal gave: yaw,
+  // pitch) the baseline is turned by those corrections (DualAntennaFactor::
+  // CreateWithBaselineCorrection); InputError on an index it did not give.
   AddResult AddDualAntenna(const DualAntennaHeading& heading, const Vec3& p_imu_main,
-                           const Vec3& p_imu_aux);
+                           const Vec3& p_imu_aux,
+                           std::optional<std::array<int, 2>> baseline = std::nullopt);
 
   // Relative motion of a sensor frame between t1 < t2 (lidar odometry, kinematic factor). The
   // pose at t1 is carried from the latest state at or before t1 (anchor a); the pose at t2 from

@@ -111,5 +111,46 @@ TEST(DualAntennaFactor, JacobiansMatchNumericDifferencesOnTheManifold) {
   EXPECT_LT(worst, 1e-7);
 }
 
+// The baseline measured by hand is off: the antennas' true baseline is the setup's turned by
+// (c_yaw, c_pitch). The corrected factor explains the true headings with those corrections; the
+// plain one sees them as an attitude error. Any baseline direction (here along x, then across).
+TEST(DualAntennaFactor, BaselineCorrectionTurnsTheSetupsBaseline) {
+  const Quat q = so3::FromRollPitchYaw(0.02, -0.03, 0.7);
+  const Quat dR = so3::Exp<double>(Vec3(0.001, -0.002, 0.005));
+  const double c_yaw = 0.012, c_pitch = -0.008;
+  for (const Vec3& aux : {kFront, Vec3(-0.8, 0.9, 1.6)}) {
+    const Vec3 b_setup = aux - kRear;
+    const Vec3 b_true = DualAntennaFactor::TurnedBaseline(b_setup, c_yaw, c_pitch);
+    EXPECT_NEAR(b_true.norm(), b_setup.norm(), 1e-12);
+    const auto m = Measure(q * dR, Vec3::Zero(), b_true, 0.002);
+    const std::unique_ptr<ceres::CostFunction> corrected(
+        DualAntennaFactor::CreateWithBaselineCorrection(m, kRear, aux, dR));
+    const std::unique_ptr<ceres::CostFunction> plain(DualAntennaFactor::Create(m, kRear, aux, dR));
+    const double* at_truth[] = {q.coeffs().data(), &c_yaw, &c_pitch};
+    Vec2 r;
+    ASSERT_TRUE(corrected->Evaluate(at_truth, r.data(), nullptr));
+    EXPECT_LT(r.norm(), 1e-10);
+    EXPECT_GT(Residual(*plain, q).norm(), 3.0);
+    const double zero = 0.0;
+    const double* uncorrected[] = {q.coeffs().data(), &zero, &zero};
+    Vec2 r0;
+    ASSERT_TRUE(corrected->Evaluate(uncorrected, r0.data(), nullptr));
+    EXPECT_NEAR((r0 - Residual(*plain, q)).norm(), 0.0, 1e-12);
+  }
+  // Along x on a level vehicle the corrections add to the predicted yaw and pitch as they are.
+  const Vec3 b = DualAntennaFactor::TurnedBaseline(Vec3(2.0, 0.0, 0.0), 0.01, 0.02);
+  EXPECT_NEAR(std::atan2(b.y(), b.x()), 0.01, 1e-12);
+  EXPECT_NEAR(std::atan2(-b.z(), std::hypot(b.x(), b.y())), 0.02, 1e-12);
+
+  const RightQuaternionManifold so3_manifold;
+  const auto m = Measure(q, kRear, kFront + Vec3(0.0, 0.3, 0.1), 0.01);
+  const std::unique_ptr<ceres::CostFunction> f(
+      DualAntennaFactor::CreateWithBaselineCorrection(m, kRear, kFront + Vec3(0.0, 0.3, 0.1), dR));
+  const auto check =
+      testing::CheckJacobians(*f, {{q.coeffs().data(), q.coeffs().data() + 4}, {0.004}, {-0.006}},
+                              {&so3_manifold, nullptr, nullptr});
+  EXPECT_LT(check.worst_relative_error, 1e-7);
+}
+
 }  // namespace
 }  // namespace statebench::est
