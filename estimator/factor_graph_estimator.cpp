@@ -65,32 +65,9 @@ struct FactorGraphEstimator::Impl {
   // ends' predictions, PredictAt, are not blended).
   OutputBlend blend{options.output_blend};
 
-  // The output's share of the calibration errors the smoother cannot average away
-  // (gnss_calibration_covariance.hpp): the first antenna's lever arm, the first heading pair's
-  // baseline (yaw, and pitch once a heading with a pitch was accepted) unless the smoother
-  // estimates it (gnss_calibration.estimate_heading_baseline).
   Mat15 CalibrationConsider(const NavState& state) const {
-    if (setup.antennas.empty()) return Mat15::Zero();
-    Vec3 baseline;
-    const Vec3* b = nullptr;
-    bool pitch = false;
-    if (!setup.dual_antennas.empty() && !options.gnss_calibration.estimate_heading_baseline) {
-      const DualAntennaPair& pair = setup.dual_antennas.front();
-      baseline = pair.p_imu_aux - pair.p_imu_main;
-      b = &baseline;
-      pitch = front_end_set.gnss->heading_pitch_seen();
-    }
-    Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
-                                            setup.antennas.front().p_imu_antenna, b, pitch);
-    // The motion constraints align the velocity with the vehicle frame as the setup gives it,
-    // unless the non-holonomic constraint estimates the IMU mount (the kinematic factor, which
-    // replaces it while the encoders run, is turned by the same globals then).
-    const NonHolonomicOptions& nhc = options.non_holonomic;
-    if (nhc.enabled && !nhc.estimate_mount) {
-      C.topLeftCorner<3, 3>() +=
-          MotionConstraintConsiderCovariance(options.gnss_calibration, setup.T_body_imu.rotation());
-    }
-    return C;
+    return OutputCalibrationConsider(setup, options, front_end_set.gnss->heading_pitch_seen(),
+                                     state);
   }
 
   // The segments of the full-batch smoother (options.batch) or of the lagged output

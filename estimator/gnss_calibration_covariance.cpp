@@ -62,4 +62,30 @@ Mat3 MotionConstraintConsiderCovariance(const GnssCalibrationUncertainty& u,
   return sr * sr * (up * up.transpose() + left * left.transpose());
 }
 
+Mat15 OutputCalibrationConsider(const EstimatorSensorSetup& setup,
+                                const FactorGraphOptions& options, bool heading_pitch_seen,
+                                const NavState& state) {
+  if (setup.antennas.empty()) return Mat15::Zero();
+  Vec3 baseline;
+  const Vec3* b = nullptr;
+  bool pitch = false;
+  if (!setup.dual_antennas.empty() && !options.gnss_calibration.estimate_heading_baseline) {
+    const DualAntennaPair& pair = setup.dual_antennas.front();
+    baseline = pair.p_imu_aux - pair.p_imu_main;
+    b = &baseline;
+    pitch = heading_pitch_seen;
+  }
+  Mat15 C = CalibrationConsiderCovariance(options.gnss_calibration, state,
+                                          setup.antennas.front().p_imu_antenna, b, pitch);
+  // The motion constraints align the velocity with the vehicle frame as the setup gives it,
+  // unless the non-holonomic constraint estimates the IMU mount (the kinematic factor, which
+  // replaces it while the encoders run, is turned by the same globals then).
+  const NonHolonomicOptions& nhc = options.non_holonomic;
+  if (nhc.enabled && !nhc.estimate_mount) {
+    C.topLeftCorner<3, 3>() +=
+        MotionConstraintConsiderCovariance(options.gnss_calibration, setup.T_body_imu.rotation());
+  }
+  return C;
+}
+
 }  // namespace statebench::est

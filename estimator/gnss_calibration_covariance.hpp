@@ -53,6 +53,16 @@ Mat15 CalibrationConsiderCovariance(const GnssCalibrationUncertainty& u, const N
 // axis) tie the IMU's attitude to the body as the setup gives it (q_body_imu); an IMU mount
 // turned by mount_rotation_sigma_deg about the body's vertical or lateral axis turns the
 // estimated yaw or pitch by as much. The rotation block (right perturbation) of that share.
-Mat3 MotionConstraintConsiderCovariance(const GnssCalibrationUncertainty& u, const Quat& q_body_imu);
+Mat3 MotionConstraintConsiderCovariance(const GnssCalibrationUncertainty& u,
+                                        const Quat& q_body_imu);
+
+// What a factor graph's output adds for the calibration it does not estimate: the first
+// antenna's lever arm (CalibrationConsiderCovariance), the first heading pair's baseline (yaw,
+// and pitch once a heading with a pitch was accepted: heading_pitch_seen) unless the smoother
+// estimates it (gnss_calibration.estimate_heading_baseline), and the motion constraints' share
+// unless the non-holonomic constraint estimates the IMU mount. Zero without an antenna.
+Mat15 OutputCalibrationConsider(const EstimatorSensorSetup& setup,
+                                const FactorGraphOptions& options, bool heading_pitch_seen,
+                                const NavState& state);
 
 }  // namespace statebench::est
