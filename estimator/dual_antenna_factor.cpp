@@ -9,7 +9,7 @@ namespace statebench::est {
 DualAntennaFactor::DualAntennaFactor(const DualAntennaHeading& m, const Vec3& p_imu_main,
                                      const Vec3& p_imu_aux, const Quat& q_imu_i_imu_t)
     : raw_baseline_imu_(p_imu_aux - p_imu_main),
-      pitch_axis_imu_(Vec3::UnitZ().cross(raw_baseline_imu_).normalized()),
+      pitch_axis_imu_(PitchAxis(raw_baseline_imu_)),
       q_imu_i_imu_t_(q_imu_i_imu_t.normalized()),
       baseline_imu_(q_imu_i_imu_t_ * raw_baseline_imu_),
       yaw_rad_(m.yaw_rad),

@@ -65,11 +65,15 @@ class DualAntennaFactor {
 
   // The baseline (IMU frame) turned by the corrections as the factor turns it.
   static Vec3 TurnedBaseline(const Vec3& baseline_imu, double c_yaw, double c_pitch) {
-    return Turned<double>(baseline_imu, Vec3::UnitZ().cross(baseline_imu).normalized(), c_yaw,
-                          c_pitch);
+    return Turned<double>(baseline_imu, PitchAxis(baseline_imu), c_yaw, c_pitch);
   }
 
  private:
+  // The axis the pitch correction turns the baseline about: horizontal in the IMU frame, across
+  // the baseline (IMU z x b, unit).
+  static Vec3 PitchAxis(const Vec3& baseline_imu) {
+    return Vec3::UnitZ().cross(baseline_imu).normalized();
+  }
   // Rodrigues about the unit axis a (a . b = 0) by c_pitch, then about z by c_yaw.
   template <typename T>
   static Eigen::Matrix<T, 3, 1> Turned(const Eigen::Matrix<T, 3, 1>& b,
