@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "estimator/bordered_chain.hpp"
 #include "estimator/gauss_markov_prior.hpp"
 #include "estimator/sliding_window_impl.hpp"
 

@@ -1,42 +1,30 @@
 // Internal to SlidingWindowSmoother (not part of the estimator's API): the window of states as
 // Ceres parameter blocks, the factors anchored at each state, the raw IMU buffer they are
 // preintegrated from, the factors waiting for the IMU, marginalisation of the oldest state and
-// the newest state's information.
+// the newest state's information. Its steps live beside it: the IMU between states
+// (sliding_window_imu.cpp), measurements onto their state (sliding_window_factors.cpp),
+// marginalisation (sliding_window_marginalization.cpp), the globals (sliding_window_globals.cpp)
+// and the batch (sliding_window_batch.cpp).
 #pragma once
 
 #include <ceres/problem.h>
 
 #include <algorithm>
-#include <cmath>
 #include <deque>
 #include <functional>
 #include <initializer_list>
-#include <limits>
 #include <memory>
 #include <optional>
-#include <span>
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "estimator/bias_random_walk_factor.hpp"
-#include "estimator/bordered_chain.hpp"
-#include "estimator/bordered_marginalization_prior.hpp"
 #include "estimator/chain_system.hpp"
-#include "estimator/dual_antenna_factor.hpp"
-#include "estimator/gnss_error_state_factor.hpp"
-#include "estimator/gnss_propagated_position_factor.hpp"
-#include "estimator/gnss_time_offset_factor.hpp"
-#include "estimator/imu_factor.hpp"
 #include "estimator/imu_preintegration.hpp"
 #include "estimator/imu_triad_factor.hpp"
 #include "estimator/linear_system.hpp"
-#include "estimator/marginalization_prior.hpp"
 #include "estimator/sliding_window_smoother.hpp"
 #include "estimator/so3_manifold.hpp"
-#include "estimator/sqrt_information.hpp"
 #include "estimator/state_parameters.hpp"
-#include "estimator/zero_rate_factor.hpp"
 
 namespace statebench::est {
 
@@ -184,139 +172,36 @@ struct SlidingWindowSmoother::Impl {
     return std::prev(it)->get();
   }
 
-  ImuPreintegration Preintegrate(const Node& from, TimeNs t_end_ns) const {
-    if (const ImuPreintegration* p = FromNewestTo(from, t_end_ns)) return *p;
-    return PreintegrateSamples(from, t_end_ns);
-  }
-
-  ImuPreintegration PreintegrateSamples(const Node& from, TimeNs t_end_ns) const {
-    const NavState s = from.State();
-    return ImuPreintegration::FromSamples(std::span<const ImuSample>(imu), from.t_ns, t_end_ns,
-                                          options.imu_noise, ImuBias{s.gyro_bias, s.accel_bias});
-  }
-
+  // --- The IMU between states (sliding_window_imu.cpp) ---
+  // `from`'s preintegration to t_end_ns: from_newest when it is that one, else from the buffer.
+  ImuPreintegration Preintegrate(const Node& from, TimeNs t_end_ns) const;
+  ImuPreintegration PreintegrateSamples(const Node& from, TimeNs t_end_ns) const;
   // from_newest, when it is the preintegration FromSamples would give from `from` to t_end_ns:
   // `from` is the newest state, at the values and noise it was integrated with.
-  const ImuPreintegration* FromNewestTo(const Node& from, TimeNs t_end_ns) const {
-    if (!from_newest || &from != states.back().get() || from_newest->end_ns() != t_end_ns ||
-        !FromNewestCurrent()) {
-      return nullptr;
-    }
-    return &*from_newest;
-  }
-
-  bool FromNewestCurrent() const {
-    const Node& n = *states.back();
-    const ImuBias bias{Eigen::Map<const Vec3>(n.x.bias.data()),
-                       Eigen::Map<const Vec3>(n.x.bias.data() + 3)};
-    return from_newest->StartsAs(n.t_ns, options.imu_noise, bias);
-  }
-
+  const ImuPreintegration* FromNewestTo(const Node& from, TimeNs t_end_ns) const;
+  bool FromNewestCurrent() const;
   // After a sample joined the buffer: from_newest extended to it (the same integration steps as
   // FromSamples from the newest state, as ImuRateOutput's cursor), or integrated again from the
   // newest state when that moved (a solve), the noise changed or a sample was skipped.
-  void ExtendFromNewest() {
-    const TimeNs t_ns = imu.back().header.stamp_ns;
-    if (from_newest && imu.size() >= 2 &&
-        from_newest->end_ns() == imu[imu.size() - 2].header.stamp_ns && FromNewestCurrent()) {
-      from_newest->Integrate(imu.back());
-    } else {
-      from_newest = PreintegrateSamples(*states.back(), t_ns);
-    }
-  }
+  void ExtendFromNewest();
+  // A new newest state at t_ns, predicted from the previous one, with the IMU factor (with the
+  // triad's globals when SetImuTriad gave some) and the bias random walk between the two.
+  void CreateState(TimeNs t_ns);
+  // Raw gyro at t_ns, linearly interpolated in the buffer (which covers the window).
+  Vec3 GyroAt(TimeNs t_ns) const;
 
-  void CreateState(TimeNs t_ns) {
-    Node& prev = *states.back();
-    ImuPreintegration pim = FromNewestTo(prev, t_ns) != nullptr ? std::move(*from_newest)
-                                                                : PreintegrateSamples(prev, t_ns);
-    from_newest.reset();
-    auto node = std::make_unique<Node>();
-    node->t_ns = t_ns;
-    node->x = StateParameters::FromNavState(pim.Predict(prev.State()));
-    AddBlocks(*node);
-    const double dt = pim.dt();
-    std::vector<double*> blocks{prev.x.q_world_imu.data(),  prev.x.p_world.data(),
-                                prev.x.v_world.data(),      prev.x.bias.data(),
-                                node->x.q_world_imu.data(), node->x.p_world.data(),
-                                node->x.v_world.data()};
-    if (imu_triad.empty()) {
-      AddFactor(prev, FactorKind::kImu, new ImuFactor(std::move(pim)), nullptr, blocks);
-    } else {
-      std::vector<ImuTriadTerm> terms;
-      for (const ImuTriadGlobal& g : imu_triad) {
-        terms.push_back(g.term);
-        blocks.push_back(globals[static_cast<std::size_t>(g.global)].value.get());
-      }
-      AddFactor(prev, FactorKind::kImu, new ImuTriadFactor(std::move(pim), std::move(terms)),
-                nullptr, blocks);
-    }
-    AddFactor(prev, FactorKind::kBias, new BiasRandomWalkFactor(options.imu_noise, dt), nullptr,
-              {prev.x.bias.data(), node->x.bias.data()});
-    states.push_back(std::move(node));
-  }
-
+  // --- Measurements onto their anchor state (sliding_window_factors.cpp) ---
   void AttachGnss(Node& anchor, const GnssPositionEnu& fix, const Vec3& p_imu_antenna,
-                  std::optional<int> time_offset, std::optional<std::array<int, 3>> error) {
-    std::vector<double*> blocks{anchor.x.q_world_imu.data(), anchor.x.p_world.data(),
-                                anchor.x.v_world.data(), anchor.x.bias.data()};
-    std::unique_ptr<ceres::CostFunction> cost;
-    Mat3 S;
-    if (time_offset) {
-      auto f = std::make_unique<GnssTimeOffsetFactor>(
-          fix.p_enu, fix.covariance, p_imu_antenna, Preintegrate(anchor, fix.header.stamp_ns),
-          anchor.State().q_world_imu, GyroAt(fix.header.stamp_ns));
-      S = f->sqrt_information();
-      cost = std::move(f);
-      blocks.push_back(globals[*time_offset].value.get());
-    } else {
-      auto f = std::make_unique<GnssPropagatedPositionFactor>(
-          fix.p_enu, fix.covariance, p_imu_antenna, Preintegrate(anchor, fix.header.stamp_ns),
-          anchor.State().q_world_imu);
-      S = f->sqrt_information();
-      cost = std::move(f);
-    }
-    if (error) {
-      cost = std::make_unique<GnssErrorStateFactor>(std::move(cost), S);
-      for (int index : *error) blocks.push_back(globals[index].value.get());
-    }
-    AddFactor(anchor, FactorKind::kGnss, cost.release(),
-              options.gnss_kernel.MakeLossFunction().release(), std::move(blocks));
-  }
-
+                  std::optional<int> time_offset, std::optional<std::array<int, 3>> error);
   void AttachHeading(Node& anchor, const DualAntennaHeading& heading, const Vec3& p_imu_main,
-                     const Vec3& p_imu_aux, std::optional<std::array<int, 2>> baseline) {
-    const Quat dR = Preintegrate(anchor, heading.header.stamp_ns).delta_q();
-    if (!baseline) {
-      AddFactor(anchor, FactorKind::kHeading,
-                DualAntennaFactor::Create(heading, p_imu_main, p_imu_aux, dR),
-                options.heading_kernel.MakeLossFunction().release(), {anchor.x.q_world_imu.data()});
-      return;
-    }
-    AddFactor(anchor, FactorKind::kHeading,
-              DualAntennaFactor::CreateWithBaselineCorrection(heading, p_imu_main, p_imu_aux, dR),
-              options.heading_kernel.MakeLossFunction().release(),
-              {anchor.x.q_world_imu.data(), globals[(*baseline)[0]].value.get(),
-               globals[(*baseline)[1]].value.get()});
-  }
-
+                     const Vec3& p_imu_aux, std::optional<std::array<int, 2>> baseline);
   // InputError unless the mount's indices are globals (pitch and yaw required; roll only where
   // allowed).
   void CheckMount(const SlidingWindowSmoother::MountCorrection& mount, const char* what,
-                  bool roll_allowed) const {
-    if (!KnownGlobal(mount.pitch) || !KnownGlobal(mount.yaw) ||
-        (mount.roll != -1 && (!roll_allowed || !KnownGlobal(mount.roll)))) {
-      throw InputError(std::string(what) + ": unknown mount correction index");
-    }
-  }
+                  bool roll_allowed) const;
   // The blocks of a mount correction's estimated axes (roll, pitch, yaw order), appended.
   void AppendMountBlocks(const std::optional<SlidingWindowSmoother::MountCorrection>& mount,
-                         std::vector<double*>* blocks) const {
-    if (!mount) return;
-    for (int index : {mount->roll, mount->pitch, mount->yaw}) {
-      if (index >= 0) blocks->push_back(globals[index].value.get());
-    }
-  }
-
+                         std::vector<double*>* blocks) const;
   struct RelativePose {
     TimeNs t1_ns;
     TimeNs t2_ns;
@@ -324,215 +209,40 @@ struct SlidingWindowSmoother::Impl {
     RobustKernel kernel;
     std::optional<SlidingWindowSmoother::MountCorrection> mount;
   };
-  void AttachRelativePose(Node& a, const RelativePose& r) {
-    // The state after a, when it is not after t2, carries t2 (neighbouring states only).
-    Node* b = nullptr;
-    for (std::size_t k = 0; k + 1 < states.size(); ++k) {
-      if (states[k].get() == &a) {
-        if (states[k + 1]->t_ns <= r.t2_ns) b = states[k + 1].get();
-        break;
-      }
-    }
-    MountAxes axes;
-    if (r.mount) axes = {r.mount->roll >= 0, r.mount->pitch >= 0, r.mount->yaw >= 0};
-    ceres::LossFunction* loss = r.kernel.MakeLossFunction().release();
-    std::vector<double*> blocks = a.Blocks();
-    ceres::CostFunction* cost = nullptr;
-    if (b == nullptr) {
-      cost = CreateRelativePoseFactorOneAnchor(r.m, Preintegrate(a, r.t1_ns),
-                                               Preintegrate(a, r.t2_ns), axes);
-    } else {
-      for (double* block : b->Blocks()) blocks.push_back(block);
-      cost =
-          CreateRelativePoseFactor(r.m, Preintegrate(a, r.t1_ns), Preintegrate(*b, r.t2_ns), axes);
-    }
-    AppendMountBlocks(r.mount, &blocks);
-    AddFactor(a, FactorKind::kRelativePose, cost, loss, std::move(blocks));
-  }
-
-  // Raw gyro at t_ns, linearly interpolated in the buffer (which covers the window).
-  Vec3 GyroAt(TimeNs t_ns) const {
-    auto it = std::lower_bound(imu.begin(), imu.end(), t_ns,
-                               [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
-    if (it == imu.end()) return imu.back().gyro;
-    if (it->header.stamp_ns == t_ns || it == imu.begin()) return it->gyro;
-    return InterpolateImuSample(*std::prev(it), *it, t_ns).gyro;
-  }
-
+  // On `a` and, when it is not after t2, the state after it (neighbouring states only).
+  void AttachRelativePose(Node& a, const RelativePose& r);
   void AttachVelocity(Node& a, TimeNs t_ns, BodyVelocityMeasurement m, const RobustKernel& kernel,
-                      std::optional<SlidingWindowSmoother::MountCorrection> mount) {
-    m.gyro_raw = GyroAt(t_ns);
-    std::vector<double*> blocks{a.x.q_world_imu.data(), a.x.v_world.data(), a.x.bias.data()};
-    AppendMountBlocks(mount, &blocks);  // pitch and yaw (no roll: CheckMount)
-    ceres::CostFunction* cost =
-        mount ? CreateMountCorrectedBodyVelocityFactor(m, Preintegrate(a, t_ns))
-              : CreateBodyVelocityFactor(m, Preintegrate(a, t_ns));
-    AddFactor(a, FactorKind::kVelocity, cost, kernel.MakeLossFunction().release(),
-              std::move(blocks));
-  }
-
+                      std::optional<SlidingWindowSmoother::MountCorrection> mount);
   // A factor at its anchor now, or pending until the IMU reaches ready_ns; kTooOld (and
   // nothing added) when anchor_ns is before the window.
-  AddResult Add(Pending p) {
-    Node* anchor = Anchor(p.anchor_ns);
-    if (anchor == nullptr) return AddResult::kTooOld;
-    if (p.ready_ns > imu.back().header.stamp_ns) {
-      pending.push_back(std::move(p));
-      return AddResult::kPending;
-    }
-    p.attach(*anchor);
-    return AddResult::kAdded;
-  }
-
+  AddResult Add(Pending p);
   // Attaches the pending factors the IMU has reached (or drops those that fell out), kind by
   // kind in a fixed order.
-  void FlushPending() {
-    const TimeNs newest = imu.back().header.stamp_ns;
-    for (FactorKind kind : {FactorKind::kGnss, FactorKind::kHeading, FactorKind::kVelocity,
-                            FactorKind::kRelativePose, FactorKind::kZeroRate}) {
-      std::erase_if(pending, [&](const Pending& p) {
-        if (p.kind != kind || p.ready_ns > newest) return false;
-        if (Node* anchor = Anchor(p.anchor_ns)) {
-          p.attach(*anchor);
-        } else {
-          ++num_dropped;  // the window moved past it while it waited
-        }
-        return true;
-      });
-    }
-  }
+  void FlushPending();
 
+  // --- Marginalisation and the window's information (sliding_window_marginalization.cpp) ---
   // The parameter blocks of neighbouring states in the order of their factors' Jacobians, then
   // the globals.
-  BlockLayout Layout(std::initializer_list<Node*> nodes) const {
-    BlockLayout layout;
-    for (Node* n : nodes) {
-      const auto blocks = n->Blocks();
-      layout.Add(blocks[0], 4, &manifold);
-      layout.Add(blocks[1], 3, nullptr);
-      layout.Add(blocks[2], 3, nullptr);
-      layout.Add(blocks[3], 6, nullptr);
-    }
-    for (const Global& g : globals) layout.Add(g.value.get(), 1, nullptr);
-    return layout;
-  }
-
+  BlockLayout Layout(std::initializer_list<Node*> nodes) const;
   // The prior the Schur complement `kept` ((15 + G) dims: next's tangent, then the globals)
   // leaves on `next` and the globals.
-  void AddMarginalizationPrior(Node& next, const LinearSystem& kept) {
-    if (globals.empty()) {
-      AddFactor(next, FactorKind::kPrior, new MarginalizationPrior(next.x, kept.H, kept.g), nullptr,
-                next.Blocks());
-      return;
-    }
-    Eigen::VectorXd values(globals.size());
-    std::vector<double*> blocks = next.Blocks();
-    for (std::size_t i = 0; i < globals.size(); ++i) {
-      values(static_cast<Eigen::Index>(i)) = *globals[i].value;
-      blocks.push_back(globals[i].value.get());
-    }
-    AddFactor(next, FactorKind::kPrior,
-              new BorderedMarginalizationPrior(next.x, values, kept.H, kept.g), nullptr,
-              std::move(blocks));
-  }
-
+  void AddMarginalizationPrior(Node& next, const LinearSystem& kept);
   // `linearized`: the old state's factors already linearised at the current values (the chain
   // solve's final system, chain_system.hpp), else they are linearised here.
-  void MarginalizeOldest(const LinearSystem* linearized = nullptr) {
-    Node& old = *states[0];
-    Node& next = *states[1];
-    LinearSystem system;
-    if (linearized != nullptr) {
-      system = *linearized;
-    } else {
-      const BlockLayout layout = Layout({&old, &next});
-      std::vector<const FactorRecord*> records;
-      for (const Factor& f : old.factors) records.push_back(&f.record);
-      Linearize(records, layout, &system);
-      num_left_out += system.num_skipped;
-    }
-    LinearSystem kept = SchurComplement(system, 15);
-    CarryGaussMarkovGlobals(ToSeconds(next.t_ns - old.t_ns), &kept);
-
-    AddMarginalizationPrior(next, kept);
-    // The old state's factors go first, in the order they were added: removing a parameter
-    // block removes its residual blocks in the order of a hash set of pointers, which would
-    // reorder the rest of the problem (and the floating-point sums of every later solve) by
-    // heap addresses.
-    if (problem) {
-      for (const Factor& f : old.factors) problem->RemoveResidualBlock(f.id);
-      for (double* block : old.Blocks()) problem->RemoveParameterBlock(block);
-    }
-    marginalized.push_back(old.State());
-    if (options.keep_all_states) Keep(std::move(states.front()));
-    states.pop_front();
-    const TimeNs t_oldest = states.front()->t_ns;
-    // Keep the samples before the oldest state that preintegration from it uses as context
-    // for its cubic interpolant (ImuPreintegration::FromSamples).
-    auto first_kept =
-        std::lower_bound(imu.begin(), imu.end(), t_oldest,
-                         [](const ImuSample& s, TimeNs t) { return s.header.stamp_ns < t; });
-    first_kept -= std::min<std::ptrdiff_t>(kPreintegrationContextSamples, first_kept - imu.begin());
-    imu.erase(imu.begin(), first_kept);
-  }
-
+  void MarginalizeOldest(const LinearSystem* linearized = nullptr);
   // The Gauss-Markov globals over dt (sliding_window_globals.cpp): their values decay and the
   // prior `kept` ((15 + G) dims) gains their process noise.
   void CarryGaussMarkovGlobals(double dt_s, LinearSystem* kept);
-
   // Into the batch store; the marginalisation prior goes (the batch has every factor it
   // summarised), the first state's initial prior stays.
-  void Keep(std::unique_ptr<Node> node) {
-    if (!kept.empty()) {
-      std::erase_if(node->factors, [](const Factor& f) { return f.kind == FactorKind::kPrior; });
-    }
-    kept.push_back(std::move(node));
-  }
-
+  void Keep(std::unique_ptr<Node> node);
   // The window as chain_system.hpp sees it: each state's blocks and the factors anchored there.
-  std::vector<ChainState> Chain() const {
-    std::vector<ChainState> chain(states.size());
-    for (std::size_t k = 0; k < states.size(); ++k) {
-      const std::vector<double*> blocks = states[k]->Blocks();
-      std::copy(blocks.begin(), blocks.end(), chain[k].blocks.begin());
-      for (const Factor& f : states[k]->factors) chain[k].factors.push_back(&f.record);
-    }
-    return chain;
-  }
-
+  std::vector<ChainState> Chain() const;
   // Every window state's marginal covariance at the current values (NaN when a factor does not
   // evaluate: no covariance to vouch for).
-  std::vector<Mat15> WindowMarginals() const {
-    ChainSystem system;
-    if (!LinearizeChain(Chain(), manifold, &system)) {
-      return std::vector<Mat15>(states.size(),
-                                Mat15::Constant(std::numeric_limits<double>::quiet_NaN()));
-    }
-    return ChainMarginalCovariances(system);
-  }
-
-  Mat15 NewestInformation() const {
-    if (!globals.empty()) {
-      ChainSystem system;
-      const std::vector<double*> blocks = GlobalBlocks();
-      LinearizeChain(Chain(), manifold, &system, blocks);
-      return NewestMarginalInformation(system);
-    }
-    Mat15 carried = Mat15::Zero();
-    for (std::size_t k = 0; k < states.size(); ++k) {
-      Node& n = *states[k];
-      const bool last = k + 1 == states.size();
-      const BlockLayout layout = last ? Layout({&n}) : Layout({&n, states[k + 1].get()});
-      std::vector<const FactorRecord*> records;
-      for (const Factor& f : n.factors) records.push_back(&f.record);
-      LinearSystem system;
-      Linearize(records, layout, &system);
-      system.H.topLeftCorner<15, 15>() += carried;
-      if (last) return system.H;
-      carried = SchurComplement(system, 15).H;
-    }
-    return carried;
-  }
+  std::vector<Mat15> WindowMarginals() const;
+  // The newest state's marginal information (the chain's, with the globals when there are any).
+  Mat15 NewestInformation() const;
 };
 
 }  // namespace statebench::est

@@ -7,7 +7,11 @@
 
 #include "core/error.hpp"
 #include "estimator/chain_levenberg_marquardt.hpp"
+#include "estimator/dual_antenna_factor.hpp"
+#include "estimator/marginalization_prior.hpp"
 #include "estimator/sliding_window_impl.hpp"
+#include "estimator/sqrt_information.hpp"
+#include "estimator/zero_rate_factor.hpp"
 
 namespace statebench::est {
 
