@@ -93,4 +93,26 @@ BorderedChainMarginals MarginalsOfBorderedChain(const ChainSystem& system) {
   return out;
 }
 
+std::vector<Mat15> BorderedChainMarginalCovariances(const ChainSystem& system) {
+  std::vector<Mat15> P = ChainMarginalCovariances(system);
+  const Eigen::Index G = system.num_globals();
+  if (G == 0 || P.empty()) return P;
+  ChainFactorization factored;
+  if (!FactorChain(system, std::vector<Vec15>(P.size(), Vec15::Zero()), &factored)) return P;
+  std::vector<Eigen::Matrix<double, 15, Eigen::Dynamic>> X(P.size(), Eigen::MatrixXd::Zero(15, G));
+  std::vector<Vec15> rhs(P.size());
+  std::vector<Vec15> x;
+  for (Eigen::Index j = 0; j < G; ++j) {
+    for (std::size_t k = 0; k < P.size(); ++k) rhs[k] = system.C[k].col(j);
+    SolveFactoredChain(factored, rhs, &x);
+    for (std::size_t k = 0; k < P.size(); ++k) X[k].col(j) = x[k];
+  }
+  const Eigen::MatrixXd sigma_g = MarginalsOfBorderedChain(system).global_covariance;
+  for (std::size_t k = 0; k < P.size(); ++k) {
+    const Mat15 share = X[k] * sigma_g * X[k].transpose();
+    P[k] += 0.5 * (share + share.transpose());
+  }
+  return P;
+}
+
 }  // namespace statebench::est

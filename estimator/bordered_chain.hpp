@@ -40,4 +40,10 @@ struct BorderedChainMarginals {
 // Schur complements give the two marginals (pseudo-inverses where nearly singular).
 BorderedChainMarginals MarginalsOfBorderedChain(const ChainSystem& system);
 
+// Every state's marginal covariance with the globals' uncertainty in it: the diagonal blocks of
+// the bordered H^-1, P_k = (T^-1)_kk + X_k Sigma_g X_k^T with X = T^-1 C (G solves with the
+// chain's factorisation) and Sigma_g the globals' marginal covariance (above). Without globals,
+// or when the chain does not factor, ChainMarginalCovariances (the covariances given the globals).
+std::vector<Mat15> BorderedChainMarginalCovariances(const ChainSystem& system);
+
 }  // namespace statebench::est

@@ -238,8 +238,8 @@ struct SlidingWindowSmoother::Impl {
   void Keep(std::unique_ptr<Node> node);
   // The window as chain_system.hpp sees it: each state's blocks and the factors anchored there.
   std::vector<ChainState> Chain() const;
-  // Every window state's marginal covariance at the current values (NaN when a factor does not
-  // evaluate: no covariance to vouch for).
+  // Every window state's marginal covariance at the current values, the globals' uncertainty
+  // included (NaN when a factor does not evaluate: no covariance to vouch for).
   std::vector<Mat15> WindowMarginals() const;
   // The newest state's marginal information (the chain's, with the globals when there are any).
   Mat15 NewestInformation() const;

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "estimator/bordered_chain.hpp"
 #include "estimator/bordered_marginalization_prior.hpp"
 #include "estimator/marginalization_prior.hpp"
 #include "estimator/sliding_window_impl.hpp"
@@ -99,11 +100,11 @@ std::vector<ChainState> SlidingWindowSmoother::Impl::Chain() const {
 
 std::vector<Mat15> SlidingWindowSmoother::Impl::WindowMarginals() const {
   ChainSystem system;
-  if (!LinearizeChain(Chain(), manifold, &system)) {
+  if (!LinearizeChain(Chain(), manifold, &system, GlobalBlocks())) {
     return std::vector<Mat15>(states.size(),
                               Mat15::Constant(std::numeric_limits<double>::quiet_NaN()));
   }
-  return ChainMarginalCovariances(system);
+  return BorderedChainMarginalCovariances(system);
 }
 
 Mat15 SlidingWindowSmoother::Impl::NewestInformation() const {

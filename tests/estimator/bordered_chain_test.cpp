@@ -47,8 +47,8 @@ Arrowhead RandomArrowhead(unsigned seed) {
     Jg.rightCols(kBorderGlobals) = 0.1 * random(3, kBorderGlobals);
     a.H += Jg.transpose() * Jg;
   }
-  a.H.bottomRightCorner(kBorderGlobals, kBorderGlobals) += 25.0 * Eigen::MatrixXd::Identity(
-                                                                      kBorderGlobals, kBorderGlobals);
+  a.H.bottomRightCorner(kBorderGlobals, kBorderGlobals) +=
+      25.0 * Eigen::MatrixXd::Identity(kBorderGlobals, kBorderGlobals);
   a.g = random(n, 1);
   ChainSystem& s = a.system;
   for (int k = 0; k < kBorderStates; ++k) {
@@ -103,6 +103,21 @@ TEST(BorderedChain, MarginalsAreTheDenseOnes) {
   const Mat15 newest = m.newest_information.inverse();
   EXPECT_LT((newest - newest_expected).norm(), 1e-8 * newest_expected.norm());
   EXPECT_EQ(NewestMarginalInformation(a.system), m.newest_information);
+}
+
+// Each state's covariance with the globals' uncertainty in it (the lagged output's), against the
+// dense inverse; it is larger than the chain's covariance given the globals.
+TEST(BorderedChain, StateMarginalsWithTheGlobalsAreTheDenseOnes) {
+  const Arrowhead a = RandomArrowhead(13);
+  const Eigen::MatrixXd P = a.H.inverse();
+  const std::vector<Mat15> bordered = BorderedChainMarginalCovariances(a.system);
+  const std::vector<Mat15> given_globals = ChainMarginalCovariances(a.system);
+  ASSERT_EQ(bordered.size(), static_cast<std::size_t>(kBorderStates));
+  for (int k = 0; k < kBorderStates; ++k) {
+    const Mat15 expected = P.block(15 * k, 15 * k, 15, 15);
+    EXPECT_LT((bordered[k] - expected).norm(), 1e-8 * expected.norm()) << k;
+    EXPECT_GT(bordered[k].trace(), given_globals[k].trace()) << k;
+  }
 }
 
 TEST(BorderedChain, WithoutGlobalsIsTheChain) {
