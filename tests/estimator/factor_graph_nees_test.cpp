@@ -5,7 +5,8 @@
 //
 // Truth draws its errors from the model the estimator assumes: IMU white noise and bias random
 // walk with the default ImuNoise densities, turn-on biases drawn from the initial bias priors,
-// GNSS white noise with the reported covariance.
+// scale factors and cross-axis terms from the triad states' priors, GNSS white noise with the
+// reported covariance.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -49,6 +50,20 @@ std::vector<double> PoseNees(std::uint64_t seed) {
   };
   so.gyro_bias = draw(options.initialization.gyro_bias_sigma_radps);
   so.accel_bias = draw(options.initialization.accel_bias_sigma_mps2);
+  // The IMU's scale factors and cross-axis terms from the triad states' priors (on by default).
+  auto triad_rng = MakeRng(seed, "nees_triad");
+  const auto triad = [&](double scale_sigma, double cross_sigma) {
+    Mat3 k;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        k(r, c) = (r == c ? scale_sigma : cross_sigma) * normal(triad_rng);
+    }
+    return k;
+  };
+  so.gyro_triad =
+      triad(options.imu_triad.gyro_scale_sigma, options.imu_triad.gyro_misalignment_sigma_rad);
+  so.accel_triad =
+      triad(options.imu_triad.accel_scale_sigma, options.imu_triad.accel_misalignment_sigma_rad);
   so.gnss_sigma_h = so.reported_sigma_h = 0.05;
   so.gnss_sigma_v = so.reported_sigma_v = 0.08;
   const Scenario sc = MakeScenario(so);

@@ -149,7 +149,8 @@ TEST(FrontEnds, BeforeTheFirstStateMeasurementsFeedTheInitialiserOrAreCounted) {
 }
 
 // The Ceres solver's batch store has no window globals: a configuration asking for both is
-// refused before anything runs, naming the options; without the lidar's mount it plans.
+// refused before anything runs, naming the options; without the lidar's mount and the IMU's
+// triad errors (both on by default) it plans.
 TEST(FrontEnds, TheCeresBatchRefusesWindowGlobalsUpFront) {
   Fixture f;
   f.options.solver = WindowSolver::kCeres;
@@ -162,6 +163,15 @@ TEST(FrontEnds, TheCeresBatchRefusesWindowGlobalsUpFront) {
     EXPECT_NE(std::string(e.what()).find("lidar.estimate_mount"), std::string::npos) << e.what();
   }
   f.options.lidar.estimate_mount = false;
+  ASSERT_TRUE(f.options.imu_triad.any());  // the default
+  try {
+    PlanFactors(f.setup, f.options);
+    FAIL() << "planned";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("imu_triad"), std::string::npos) << e.what();
+  }
+  f.options.imu_triad.estimate_gyro = false;
+  f.options.imu_triad.estimate_accel = false;
   EXPECT_NO_THROW(PlanFactors(f.setup, f.options));
 }
 
