@@ -293,7 +293,9 @@ struct FactorGraphEstimator::Impl {
     const LocalEnuFrame* frame = local ? &local_frame : (enu ? &*enu : nullptr);
     if (frame == nullptr) return std::nullopt;
     std::optional<StateEstimate> out = ToStateEstimate(p, *frame);
-    if (out) out->status = StatusAt(ctx.diag, position_sensors, t_ns);
+    // A batch or lagged state of a local start stays local though the run went on into ENU.
+    if (out)
+      out->status = local ? EstimateStatus::kLocal : StatusAt(ctx.diag, position_sensors, t_ns);
     return out;
   }
 
