@@ -147,6 +147,14 @@ std::string YamlNode::Where() const {
   return os.str();
 }
 
+std::string YamlNode::FlowText() const {
+  YAML::Emitter out;
+  out.SetMapFormat(YAML::Flow);
+  out.SetSeqFormat(YAML::Flow);
+  out << node_;
+  return out.c_str();
+}
+
 std::filesystem::path YamlNode::Directory() const {
   return std::filesystem::path(source_).parent_path();
 }

@@ -68,6 +68,9 @@ class YamlNode {
   [[noreturn]] void Fail(const std::string& what) const;
 
   const YAML::Node& raw() const { return node_; }
+  // The node as one line of flow-style YAML ({a: 1, b: [2, 3]}), its scalars as written: what a
+  // file writing it back gets to read again.
+  std::string FlowText() const;
 
  private:
   YamlNode(YAML::Node node, std::string source, std::string field, YAML::Mark mark)

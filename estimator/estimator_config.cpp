@@ -42,6 +42,15 @@ void ParseSensorOverrides(const YamlNode& node, SensorKind kind, EstimatorSensor
     setup->imu_noise = noise;
   } else if (kind == SensorKind::kGnss) {
     GnssAntennaOptionTable().Read(node, antenna);
+    const bool given[3] = {antenna->correlated_error_sigma_m > 0.0,
+                           antenna->correlated_error_vertical_sigma_m > 0.0,
+                           antenna->correlated_error_tau_s > 0.0};
+    if (given[0] != given[1] || given[0] != given[2]) {
+      node.Fail(
+          "correlated_error_sigma_m, correlated_error_vertical_sigma_m and "
+          "correlated_error_tau_s describe the receiver's slow error together: give all three "
+          "above 0, or none");
+    }
   } else {
     node.Fail("no estimator overrides for this sensor type");
   }

@@ -55,6 +55,14 @@ struct GnssAntenna {
   Vec3 p_imu_antenna = Vec3::Zero();
   double covariance_scale = 1.0;  // reported covariance multiplied by this ...
   double min_sigma_m = 0.0;       // ... and its eigenvalues floored at min_sigma_m^2
+  // The receiver's slowly varying error as its setup describes it (a datasheet or a static
+  // recording; estimator-config.md, "Per-sensor estimator overrides"): stationary sigmas and
+  // correlation time of the Gauss-Markov error states. 0: not described, the options'
+  // gnss.correlated_error_* apply.
+  double correlated_error_sigma_m = 0.0;           // east and north
+  double correlated_error_vertical_sigma_m = 0.0;  // up
+  double correlated_error_tau_s = 0.0;
+  bool DescribesCorrelatedError() const { return correlated_error_sigma_m > 0.0; }
 };
 
 struct DualAntennaPair {
@@ -155,7 +163,9 @@ struct MeasurementGateOptions {
   // averaging fixes does not remove) as three states of the smoother, east, north and up
   // (gnss_error_state_factor.hpp), each a first-order Gauss-Markov process of these stationary
   // sigmas and correlation time (shared/REFERENCE.md: tau 30-300 s), held within 5 sigmas.
-  bool estimate_correlated_error = false;
+  // kAuto: the receivers whose setup describes their slow error (GnssAntenna), with its figures;
+  // kOn: every receiver, with the setup's figures where it gives them, else these; kOff: none.
+  FactorUse estimate_correlated_error = FactorUse::kAuto;
   double correlated_error_sigma_m = 0.5;           // east and north
   double correlated_error_vertical_sigma_m = 1.0;  // up
   double correlated_error_tau_s = 100.0;

@@ -16,6 +16,14 @@ std::string ShowNumber(double v) {
   return s.str();
 }
 
+void ReadUse(const YamlNode& n, FactorUse* use) {
+  try {
+    *use = ParseFactorUse(n.As<std::string>());
+  } catch (const InputError& e) {
+    n.Fail(e.what());
+  }
+}
+
 OptionTable<RobustKernel> KernelTable() {
   OptionTable<RobustKernel> t("robust kernel");
   t.Custom(
@@ -59,8 +67,17 @@ OptionTable<MeasurementGateOptions> GateTable(const char* sigma_key, const char*
                 Range::Positive(), "prior sigma of the time offset around 0 (s)")
         .Number("time_offset_max_s", &MeasurementGateOptions::time_offset_max_s, Range::Positive(),
                 "the time offset is held within +- this (s)")
-        .Flag("estimate_correlated_error", &MeasurementGateOptions::estimate_correlated_error,
-              "estimate each receiver's slowly varying error (Gauss-Markov, ENU) in the smoother")
+        .Custom(
+            "estimate_correlated_error",
+            [](const YamlNode& n, MeasurementGateOptions* o) {
+              ReadUse(n, &o->estimate_correlated_error);
+            },
+            [](const MeasurementGateOptions& o) {
+              return std::string(FactorUseName(o.estimate_correlated_error));
+            },
+            "auto, true, false",
+            "each receiver's slowly varying error (Gauss-Markov, ENU) as smoother states "
+            "(auto: the receivers whose setup describes it)")
         .Number("correlated_error_sigma_m", &MeasurementGateOptions::correlated_error_sigma_m,
                 Range::Positive(), "its stationary sigma, east and north (m)")
         .Number("correlated_error_vertical_sigma_m",
@@ -138,14 +155,6 @@ OptionTable<OutputBlendOptions> OutputBlendTable() {
       .Number("start_max_s", &B::start_max_s, Range::NonNegative(),
               "... a correction takes at most this (0: it jumps in)");
   return t;
-}
-
-void ReadUse(const YamlNode& n, FactorUse* use) {
-  try {
-    *use = ParseFactorUse(n.As<std::string>());
-  } catch (const InputError& e) {
-    n.Fail(e.what());
-  }
 }
 
 OptionTable<LidarFactorOptions> LidarTable() {
@@ -412,7 +421,15 @@ const OptionTable<GnssAntenna>& GnssAntennaOptionTable() {
     t.Number("covariance_scale", &GnssAntenna::covariance_scale, Range::Positive(),
              "reported covariance x this")
         .Number("min_sigma_m", &GnssAntenna::min_sigma_m, Range::NonNegative(),
-                "eigenvalues floored at this sigma");
+                "eigenvalues floored at this sigma")
+        .Number("correlated_error_sigma_m", &GnssAntenna::correlated_error_sigma_m,
+                Range::NonNegative(),
+                "the receiver's slow error: stationary sigma, east and north (m; 0: not given)")
+        .Number("correlated_error_vertical_sigma_m",
+                &GnssAntenna::correlated_error_vertical_sigma_m, Range::NonNegative(),
+                "its stationary sigma, up (m)")
+        .Number("correlated_error_tau_s", &GnssAntenna::correlated_error_tau_s,
+                Range::NonNegative(), "its correlation time (s)");
     return t;
   }();
   return table;

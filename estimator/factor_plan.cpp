@@ -1,5 +1,6 @@
 #include "estimator/factor_plan.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.hpp"
@@ -22,6 +23,19 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   return s;
 }
 
+namespace {
+
+// Whether some receiver gets slow-error states (gnss_front_end.hpp, ErrorStateOf).
+bool EstimatesCorrelatedError(const EstimatorSensorSetup& setup, const MeasurementGateOptions& g) {
+  if (g.estimate_correlated_error != FactorUse::kAuto) {
+    return g.estimate_correlated_error == FactorUse::kOn && !setup.antennas.empty();
+  }
+  return std::any_of(setup.antennas.begin(), setup.antennas.end(),
+                     [](const GnssAntenna& a) { return a.DescribesCorrelatedError(); });
+}
+
+}  // namespace
+
 FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptions& o) {
   FactorPlan plan;
   for (const EstimatorSensor& s : setup.sensors) {
@@ -40,7 +54,7 @@ FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptio
   if (o.solver == WindowSolver::kCeres && o.batch) {
     const bool globals = (o.lidar.estimate_mount && !plan.lidars.empty()) ||
                          (o.non_holonomic.enabled && o.non_holonomic.estimate_mount) ||
-                         o.gnss.estimate_time_offset || o.gnss.estimate_correlated_error ||
+                         o.gnss.estimate_time_offset || EstimatesCorrelatedError(setup, o.gnss) ||
                          o.imu_triad.any() || o.gnss_calibration.estimate_heading_baseline;
     if (globals) {
       throw InputError(where +

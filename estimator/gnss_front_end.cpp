@@ -303,12 +303,21 @@ std::optional<std::array<int, 2>> GnssFrontEnd::BaselineOf(const std::string& he
 
 std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
   const MeasurementGateOptions& g = options_.gnss;
-  if (!g.estimate_correlated_error) return std::nullopt;
+  const GnssAntenna& antenna = *setup_.FindAntenna(antenna_id);
+  const bool described = antenna.DescribesCorrelatedError();
+  if (g.estimate_correlated_error == FactorUse::kOff ||
+      (g.estimate_correlated_error == FactorUse::kAuto && !described)) {
+    return std::nullopt;
+  }
+  const double horizontal =
+      described ? antenna.correlated_error_sigma_m : g.correlated_error_sigma_m;
+  const double vertical =
+      described ? antenna.correlated_error_vertical_sigma_m : g.correlated_error_vertical_sigma_m;
+  const double tau = described ? antenna.correlated_error_tau_s : g.correlated_error_tau_s;
   std::array<int, 3> indices{};
   for (int k = 0; k < 3; ++k) {
-    const double sigma = k < 2 ? g.correlated_error_sigma_m : g.correlated_error_vertical_sigma_m;
-    indices[k] =
-        ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma, g.correlated_error_tau_s);
+    const double sigma = k < 2 ? horizontal : vertical;
+    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma, tau);
   }
   return indices;
 }

@@ -101,7 +101,8 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   double TimeOffsetEstimate(const std::string& antenna_id) const;
   // The smoother's error states of the antenna (globals created on its first fix, reported as
   // the antenna's "error_east_m", "error_north_m", "error_up_m") when
-  // gnss.estimate_correlated_error; nullopt otherwise.
+  // gnss.estimate_correlated_error is true, or auto and the antenna's setup describes its slow
+  // error (with the setup's sigmas and tau where it does); nullopt otherwise.
   static constexpr const char* kErrorGlobals[3] = {"error_east_m", "error_north_m", "error_up_m"};
   std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
   // The fix as the gate sees it: less the antenna's current error estimate, its covariance

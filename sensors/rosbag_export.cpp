@@ -194,6 +194,9 @@ RosbagExportResult ExportRosbag(const fs::path& log_dir, const fs::path& bag_pat
           entry.kind = *kind;
           entry.joint = id;
           entry.joints = {id + "_fl", id + "_fr", id + "_rl", id + "_rr"};
+          for (const SensorMount& mount : mounts) {
+            if (mount.id == id) entry.estimator = mount.estimator;  // what the estimators are told
+          }
           map.topics.push_back(entry);
         }
         result.streams.push_back(s);

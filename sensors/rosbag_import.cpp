@@ -191,6 +191,7 @@ std::string SetupYaml(const RosTopicMap& map, const std::vector<Stream>& streams
     mount.type = std::string(RosTopicKindName(s.entry->kind));
     mount.id = s.entry->id;
     mount.latency_s = s.stats.latency_s;
+    mount.estimator = s.entry->estimator;
     mount.comment =
         "topic " + s.stats.topic + " (" + s.stats.datatype + "), frame '" + s.stats.frame_id + "'";
     if (s.entry->T_body_sensor) {

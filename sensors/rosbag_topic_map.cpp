@@ -33,7 +33,7 @@ RosTopicKind ParseKind(const YamlNode& node) {
 }
 
 // Keys a topic entry of `kind` may have beyond topic, id, type, frame_id, T_body_sensor,
-// latency_s.
+// latency_s, estimator.
 std::vector<std::string_view> KindKeys(RosTopicKind kind) {
   switch (kind) {
     case RosTopicKind::kGnss:
@@ -53,8 +53,8 @@ std::vector<std::string_view> KindKeys(RosTopicKind kind) {
   }
 }
 
-constexpr std::array<std::string_view, 6> kCommonTopicKeys = {
-    "topic", "id", "type", "frame_id", "T_body_sensor", "latency_s"};
+constexpr std::array<std::string_view, 7> kCommonTopicKeys = {
+    "topic", "id", "type", "frame_id", "T_body_sensor", "latency_s", "estimator"};
 
 void CheckKeys(const YamlNode& entry, RosTopicKind kind) {
   const std::vector<std::string_view> own = KindKeys(kind);
@@ -115,6 +115,10 @@ RosTopicEntry ParseTopic(const YamlNode& entry) {
   if (const auto l = entry.Find("latency_s"); l && !l->IsNull()) {
     t.latency_s = l->As<double>();
     if (*t.latency_s < 0.0 || *t.latency_s > 10.0) l->Fail("expected a latency in [0, 10] s");
+  }
+  if (const auto e = entry.Find("estimator"); e && !e->IsNull()) {
+    e->ExpectMap();
+    t.estimator = e->FlowText();
   }
   if (const auto s = entry.Find("position_sigma_m"); s && !s->IsNull()) {
     const std::vector<double> v = PositiveNumbers(*s, 3);
@@ -253,6 +257,7 @@ std::string RosTopicMapYaml(const RosTopicMap& map, const std::string& header_co
     if (t.frame_id) y += "    frame_id: " + YamlQuoted(*t.frame_id) + "\n";
     if (t.T_body_sensor) y += "    T_body_sensor: " + TransformYaml(*t.T_body_sensor) + "\n";
     if (t.latency_s) y += "    latency_s: " + NumberText(*t.latency_s) + "\n";
+    if (!t.estimator.empty()) y += "    estimator: " + t.estimator + "\n";
     if (t.position_sigma_m) {
       y += "    position_sigma_m: " + Numbers(t.position_sigma_m->data(), 3) + "\n";
     }

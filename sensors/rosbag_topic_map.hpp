@@ -43,6 +43,7 @@ struct RosTopicEntry {
   std::optional<std::string> frame_id;   // instead of the messages' frame
   std::optional<SE3> T_body_sensor;      // instead of the static transforms
   std::optional<double> latency_s;       // instead of the largest receive - stamp delay
+  std::string estimator;  // the setup entry's `estimator:` block, flow YAML (empty: none)
   std::optional<Vec3> position_sigma_m;  // gnss: replaces the fixes' covariance (east, north, up)
   std::optional<Vec6> twist_sigma;    // body_velocity: replaces the twist covariance (m/s, rad/s)
   std::optional<Vec3> velocity_sigma_mps;  // gnss_velocity: replaces its covariance (E, N, U)

@@ -19,6 +19,10 @@ std::vector<SensorMount> ReadSensorMounts(const std::filesystem::path& setup_fil
     m.id = entry.Get<std::string>("id");
     m.T_body_sensor = ParseTransform(entry["T_body_sensor"]);
     if (const auto l = entry.Find("latency_s"); l && !l->IsNull()) m.latency_s = l->As<double>();
+    if (const auto e = entry.Find("estimator"); e && !e->IsNull()) {
+      e->ExpectMap();
+      m.estimator = e->FlowText();
+    }
     out.push_back(std::move(m));
   }
   return out;
@@ -33,6 +37,7 @@ std::string SensorMountsYaml(const std::string& name, const std::vector<SensorMo
     y += "  - type: " + m.type + "\n    id: " + YamlQuoted(m.id) + "\n";
     y += "    T_body_sensor: " + TransformYaml(m.T_body_sensor) + "\n";
     if (m.latency_s) y += "    latency_s: " + NumberText(*m.latency_s) + "\n";
+    if (!m.estimator.empty()) y += "    estimator: " + m.estimator + "\n";
   }
   return y;
 }

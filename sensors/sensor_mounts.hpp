@@ -18,6 +18,7 @@ struct SensorMount {
   std::string id;
   SE3 T_body_sensor;
   std::optional<double> latency_s;
+  std::string estimator;  // the entry's `estimator:` block as flow YAML (empty: none)
   std::string comment;  // written as a comment line above the entry (may be empty)
 };
 

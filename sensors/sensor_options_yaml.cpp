@@ -10,9 +10,10 @@
 namespace statebench::sensors {
 namespace {
 
-// Keys every entry has (sensor_setup.cpp reads them).
-constexpr std::array<std::string_view, 5> kCommonSensorKeys = {"type", "id", "rate_hz", "T_body_sensor",
-                                                         "latency_s"};
+// Keys every entry has (sensor_setup.cpp reads them), and `estimator`: what the estimators are
+// told beyond the setup (estimator-config.md, "Per-sensor estimator overrides"), not simulated.
+constexpr std::array<std::string_view, 6> kCommonSensorKeys = {
+    "type", "id", "rate_hz", "T_body_sensor", "latency_s", "estimator"};
 
 // Throws on a key that is neither common nor one of the type's own keys (catches typos).
 void ExpectEntryKeys(const YamlNode& entry, std::initializer_list<std::string_view> own) {

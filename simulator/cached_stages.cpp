@@ -70,6 +70,8 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
                              m.mount_translation_sigma_m, m.mount_rotation_sigma_deg}) {
         key.Field(NumberText(v));
       }
+      key.Field(NumberText(m.gnss_slow_error_scale_min))
+          .Field(NumberText(m.gnss_slow_error_scale_max));
     }
     keys[c.spec.id] = key.Hex();
   }

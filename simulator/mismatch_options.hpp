@@ -6,6 +6,8 @@
 //     imu_spread: 0.3                 # each unit's noise densities and bias random walks:
 //                                     # datasheet x U(1 - s, 1 + s), per triad and quantity
 //     gnss_covariance_scale: [0.5, 2.0]   # reported / true variance, log-uniform per receiver
+//     gnss_slow_error_scale: [0.5, 2.0]   # the slow error's variance (gauss_markov fraction):
+//                                         # the setup's x log-uniform, per receiver
 //     mount_translation_sigma_m: 0.01     # each sensor's true mount: the setup's, moved by
 //     mount_rotation_sigma_deg: 0.2       #   N(0, sigma) per axis (translation and rotation)
 //     clock_offset_sigma_s: 0.003         # each non-IMU sensor's clock: N(0, sigma) off the IMU's
@@ -26,6 +28,8 @@ struct MismatchOptions {
   double imu_spread = 0.0;
   double gnss_covariance_scale_min = 1.0;
   double gnss_covariance_scale_max = 1.0;
+  double gnss_slow_error_scale_min = 1.0;  // stream "mismatch_gnss_slow": the other draws stay
+  double gnss_slow_error_scale_max = 1.0;
   double mount_translation_sigma_m = 0.0;
   double mount_rotation_sigma_deg = 0.0;
   double clock_offset_sigma_s = 0.0;

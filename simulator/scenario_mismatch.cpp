@@ -1,10 +1,12 @@
 #include "simulator/scenario_mismatch.hpp"
 
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <numbers>
-#include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
@@ -26,6 +28,23 @@ double Spread(const YamlNode& node, const char* key) {
   const double v = NonNegative(node, key, 0.0);
   if (v >= 1.0) node[key].Fail("must be below 1 (a factor 1 - s stays positive)");
   return v;
+}
+
+// `key: [min, max]` or `key: value` (min = max), 0 < min <= max; absent: both stay as they are.
+void LogUniformRange(const YamlNode& node, const char* key, double* min, double* max) {
+  const auto range = node.Find(key);
+  if (!range) return;
+  if (range->IsScalar()) {
+    *min = *max = range->As<double>();
+  } else {
+    range->ExpectSequence();
+    if (range->size() != 2) range->Fail("expected [min, max] or one number");
+    *min = range->At(0).As<double>();
+    *max = range->At(1).As<double>();
+  }
+  if (!(*min > 0.0) || !(*max >= *min) || !std::isfinite(*max)) {
+    range->Fail("expected 0 < min <= max");
+  }
 }
 
 // Every quantity takes its draws whatever its magnitude, so changing one magnitude (a sweep
@@ -59,26 +78,16 @@ void Spread(double spread, Draws& draws, sensors::ImuTriadOptions* triad, double
 
 MismatchOptions ParseMismatch(const YamlNode& node) {
   node.ExpectMap();
-  node.ExpectOnlyKeys({"imu_spread", "gnss_covariance_scale", "mount_translation_sigma_m",
-                       "mount_rotation_sigma_deg", "clock_offset_sigma_s", "vehicle_mass_spread",
+  node.ExpectOnlyKeys({"imu_spread", "gnss_covariance_scale", "gnss_slow_error_scale",
+                       "mount_translation_sigma_m", "mount_rotation_sigma_deg",
+                       "clock_offset_sigma_s", "vehicle_mass_spread",
                        "vehicle_cornering_stiffness_spread"});
   MismatchOptions o;
   o.imu_spread = Spread(node, "imu_spread");
-  if (const auto scale = node.Find("gnss_covariance_scale")) {
-    if (scale->IsScalar()) {
-      o.gnss_covariance_scale_min = o.gnss_covariance_scale_max = scale->As<double>();
-    } else {
-      scale->ExpectSequence();
-      if (scale->size() != 2) scale->Fail("expected [min, max] or one number");
-      o.gnss_covariance_scale_min = scale->At(0).As<double>();
-      o.gnss_covariance_scale_max = scale->At(1).As<double>();
-    }
-    if (!(o.gnss_covariance_scale_min > 0.0) ||
-        !(o.gnss_covariance_scale_max >= o.gnss_covariance_scale_min) ||
-        !std::isfinite(o.gnss_covariance_scale_max)) {
-      scale->Fail("expected 0 < min <= max");
-    }
-  }
+  LogUniformRange(node, "gnss_covariance_scale", &o.gnss_covariance_scale_min,
+                  &o.gnss_covariance_scale_max);
+  LogUniformRange(node, "gnss_slow_error_scale", &o.gnss_slow_error_scale_min,
+                  &o.gnss_slow_error_scale_max);
   o.mount_translation_sigma_m = NonNegative(node, "mount_translation_sigma_m", 0.0);
   o.mount_rotation_sigma_deg = NonNegative(node, "mount_rotation_sigma_deg", 0.0);
   o.clock_offset_sigma_s = NonNegative(node, "clock_offset_sigma_s", 0.0);
@@ -90,6 +99,7 @@ MismatchOptions ParseMismatch(const YamlNode& node) {
 std::vector<SensorMismatch> ApplyMismatch(const MismatchOptions& o, std::uint64_t seed,
                                           sensors::SensorSetup* setup, ScenarioFaults* faults) {
   Draws draws(seed, "mismatch");
+  Draws slow_error_draws(seed, "mismatch_gnss_slow");  // its own stream: added after the others
   std::vector<SensorMismatch> out;
   for (SensorConfig& c : setup->sensors) {
     SensorMismatch m;
@@ -120,8 +130,13 @@ std::vector<SensorMismatch> ApplyMismatch(const MismatchOptions& o, std::uint64_
     const double scale =
         draws.LogUniform(o.gnss_covariance_scale_min, o.gnss_covariance_scale_max);
     if (c.type() == SensorType::kGnss) {
-      std::get<sensors::GnssOptions>(c.options).covariance_scale *= scale;
+      auto& gnss = std::get<sensors::GnssOptions>(c.options);
+      gnss.covariance_scale *= scale;
       m.reported_covariance_scale = scale;
+      m.slow_error_variance_factor =
+          slow_error_draws.LogUniform(o.gnss_slow_error_scale_min, o.gnss_slow_error_scale_max);
+      gnss.correlated_fraction =
+          std::min(1.0, gnss.correlated_fraction * m.slow_error_variance_factor);
     }
     out.push_back(m);
   }

@@ -21,6 +21,7 @@ struct SensorMismatch {
   Vec3 mount_rotation_deg = Vec3::Zero();    // rotation vector, sensor frame
   double clock_offset_s = 0.0;               // non-IMU sensors: stamp minus true time
   double reported_covariance_scale = 1.0;    // GNSS receivers
+  double slow_error_variance_factor = 1.0;   // GNSS receivers: gauss_markov fraction x this
   double gyro_noise_factor = 1.0, gyro_walk_factor = 1.0;    // the IMU
   double accel_noise_factor = 1.0, accel_walk_factor = 1.0;
 };

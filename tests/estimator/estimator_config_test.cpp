@@ -63,6 +63,11 @@ TEST(EstimatorSensorSetup, ReadsThePaperSetupsInTheImuFrame) {
       LoadEstimatorSensorSetup(SourceDir() / "scenarios/setups/setup2_quadricycle.yaml");
   EXPECT_EQ(setup2.antennas.size(), 1u);
   EXPECT_TRUE(setup2.dual_antennas.empty());
+  // Setup 2's receiver describes its slow error (sqrt(0.01) of its sigmas); setup 1's do not.
+  EXPECT_DOUBLE_EQ(setup2.antennas[0].correlated_error_sigma_m, 0.17);
+  EXPECT_DOUBLE_EQ(setup2.antennas[0].correlated_error_vertical_sigma_m, 0.255);
+  EXPECT_DOUBLE_EQ(setup2.antennas[0].correlated_error_tau_s, 100.0);
+  EXPECT_FALSE(front->DescribesCorrelatedError());
 
   const auto setup3 =
       LoadEstimatorSensorSetup(SourceDir() / "scenarios/setups/setup3_shuttle.yaml");
@@ -109,6 +114,31 @@ TEST(EstimatorSensorSetup, ReadsEstimatorOverrides) {
   EXPECT_DOUBLE_EQ(setup.imu_noise->accel_noise_density, ImuNoise{}.accel_noise_density);
   EXPECT_DOUBLE_EQ(setup.FindAntenna("g")->covariance_scale, 4.0);
   EXPECT_DOUBLE_EQ(setup.FindAntenna("g")->min_sigma_m, 0.02);
+  EXPECT_FALSE(setup.FindAntenna("g")->DescribesCorrelatedError());
+}
+
+TEST(EstimatorSensorSetup, AReceiversSlowErrorIsDescribedByAllThreeFiguresOrNone) {
+  const auto setup = Parse(
+      "name: o\nsensors:\n  - {type: imu, id: imu, T_body_sensor: {}}\n"
+      "  - {type: gnss, id: g, T_body_sensor: {}, estimator: {correlated_error_sigma_m: 0.2, "
+      "correlated_error_vertical_sigma_m: 0.3, correlated_error_tau_s: 60}}\n");
+  const GnssAntenna& g = *setup.FindAntenna("g");
+  EXPECT_TRUE(g.DescribesCorrelatedError());
+  EXPECT_DOUBLE_EQ(g.correlated_error_sigma_m, 0.2);
+  EXPECT_DOUBLE_EQ(g.correlated_error_vertical_sigma_m, 0.3);
+  EXPECT_DOUBLE_EQ(g.correlated_error_tau_s, 60.0);
+  const auto parse = [](const YamlNode& n) { return ParseEstimatorSensorSetup(n); };
+  const std::string partial = ErrorOf(
+      parse, "name: x\nsensors:\n" + kImu +
+                 "  - {type: gnss, id: g, T_body_sensor: {}, estimator: {correlated_error_sigma_m: "
+                 "0.2}}\n");
+  EXPECT_NE(partial.find("setup.yaml:4:"), std::string::npos) << partial;
+  EXPECT_NE(partial.find("give all three above 0, or none"), std::string::npos) << partial;
+  EXPECT_NE(ErrorOf(parse, "name: x\nsensors:\n" + kImu +
+                               "  - {type: gnss, id: g, T_body_sensor: {}, estimator: "
+                               "{correlated_error_tau_s: -1}}\n")
+                .find("correlated_error_tau_s"),
+            std::string::npos);
 }
 
 TEST(EstimatorSensorSetup, ErrorsNameTheFileLineAndField) {

@@ -32,6 +32,7 @@ TEST(RosTopicMap, WritesAndReadsBackEveryField) {
   imu.latency_s = 0.003;
   RosTopicEntry gnss = Entry("/fix", "gnss", RosTopicKind::kGnss);
   gnss.position_sigma_m = Vec3(1.0, 1.5, 2.0);
+  gnss.estimator = "{covariance_scale: 4, correlated_error_sigma_m: 0.17}";
   RosTopicEntry odom = Entry("/odom", "odom", RosTopicKind::kBodyVelocity);
   odom.twist_sigma = (Vec6() << 0.1, 0.2, 0.3, 0.4, 0.5, 0.6).finished();
   RosTopicEntry wheels = Entry("/joints", "wheels", RosTopicKind::kWheelEncoders);
@@ -58,6 +59,8 @@ TEST(RosTopicMap, WritesAndReadsBackEveryField) {
             imu.T_body_sensor->rotation().coeffs());
   EXPECT_EQ(back.topics[0].latency_s, 0.003);
   EXPECT_EQ(back.topics[1].position_sigma_m, gnss.position_sigma_m);
+  EXPECT_EQ(back.topics[1].estimator, gnss.estimator);  // the setup's block, as written
+  EXPECT_TRUE(back.topics[0].estimator.empty());
   EXPECT_EQ(back.topics[2].twist_sigma, odom.twist_sigma);
   EXPECT_EQ(back.topics[3].joints, wheels.joints);
   EXPECT_EQ(back.topics[4].joint, "steering_joint");

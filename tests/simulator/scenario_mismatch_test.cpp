@@ -24,6 +24,7 @@ constexpr const char* kMismatch =
     "mismatch:\n"
     "  imu_spread: 0.3\n"
     "  gnss_covariance_scale: [0.5, 2.0]\n"
+    "  gnss_slow_error_scale: [0.5, 2.0]\n"
     "  mount_translation_sigma_m: 0.01\n"
     "  mount_rotation_sigma_deg: 0.2\n"
     "  clock_offset_sigma_s: 0.003\n"
@@ -69,6 +70,13 @@ TEST(ScenarioMismatch, TheSimulatedUnitDiffersFromTheSetupWithinItsSpreads) {
       EXPECT_DOUBLE_EQ(scale, m.reported_covariance_scale);
       EXPECT_GE(scale, 0.5);
       EXPECT_LE(scale, 2.0);
+      // The unit's slow error: the setup's variance fraction (0.01) x the drawn factor.
+      const double fraction = std::get<sensors::GnssOptions>(b.options).correlated_fraction;
+      EXPECT_DOUBLE_EQ(fraction, std::get<sensors::GnssOptions>(a.options).correlated_fraction *
+                                     m.slow_error_variance_factor);
+      EXPECT_GE(m.slow_error_variance_factor, 0.5);
+      EXPECT_LE(m.slow_error_variance_factor, 2.0);
+      EXPECT_NE(m.slow_error_variance_factor, 1.0);
     }
     if (b.type() == sensors::SensorType::kImu) {
       const auto& ia = std::get<sensors::ImuOptions>(a.options);
@@ -87,6 +95,33 @@ TEST(ScenarioMismatch, TheSimulatedUnitDiffersFromTheSetupWithinItsSpreads) {
   const ScenarioSensors other =
       LoadScenarioSensors(GridWith(dir, std::string(kSensors) + kMismatch, 8));
   EXPECT_NE(other.mismatch[0].mount_translation_m, unit.mismatch[0].mount_translation_m);
+}
+
+// The slow error's draws come from a stream of their own: with or without them, every other
+// quantity of the unit is drawn the same (the figures measured before the option stay valid).
+TEST(ScenarioMismatch, TheSlowErrorScaleLeavesTheOtherDrawsAsTheyWere) {
+  TempDir dir;
+  std::string without = kMismatch;
+  const std::string line = "  gnss_slow_error_scale: [0.5, 2.0]\n";
+  without.erase(without.find(line), line.size());
+  const ScenarioSensors a = LoadScenarioSensors(GridWith(dir, std::string(kSensors) + without));
+  const ScenarioSensors b = LoadScenarioSensors(GridWith(dir, std::string(kSensors) + kMismatch));
+  ASSERT_EQ(a.mismatch.size(), b.mismatch.size());
+  bool some_gnss = false;
+  for (std::size_t i = 0; i < a.mismatch.size(); ++i) {
+    SCOPED_TRACE(a.mismatch[i].id);
+    EXPECT_EQ(a.mismatch[i].mount_translation_m, b.mismatch[i].mount_translation_m);
+    EXPECT_EQ(a.mismatch[i].mount_rotation_deg, b.mismatch[i].mount_rotation_deg);
+    EXPECT_EQ(a.mismatch[i].clock_offset_s, b.mismatch[i].clock_offset_s);
+    EXPECT_EQ(a.mismatch[i].reported_covariance_scale, b.mismatch[i].reported_covariance_scale);
+    EXPECT_EQ(a.mismatch[i].gyro_noise_factor, b.mismatch[i].gyro_noise_factor);
+    EXPECT_EQ(a.mismatch[i].slow_error_variance_factor, 1.0);
+    if (b.setup.sensors[i].type() == sensors::SensorType::kGnss) {
+      some_gnss = true;
+      EXPECT_NE(b.mismatch[i].slow_error_variance_factor, 1.0);
+    }
+  }
+  EXPECT_TRUE(some_gnss);
 }
 
 TEST(ScenarioMismatch, TheEstimatorsVehicleFileHasDrawnParameters) {
@@ -117,6 +152,8 @@ TEST(ScenarioMismatch, BadBlocksNameTheirField) {
   EXPECT_NE(error("  imu_spread: 1.5\n").find("field 'mismatch.imu_spread': must be below 1"),
             std::string::npos);
   EXPECT_NE(error("  gnss_covariance_scale: [2.0, 0.5]\n").find("0 < min <= max"),
+            std::string::npos);
+  EXPECT_NE(error("  gnss_slow_error_scale: [0.0, 2.0]\n").find("0 < min <= max"),
             std::string::npos);
   EXPECT_NE(error("  clock_offset_sigma_s: -1\n").find("must be a finite number >= 0"),
             std::string::npos);
