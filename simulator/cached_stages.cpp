@@ -63,15 +63,14 @@ std::map<std::string, std::string> SensorStreamKeys(const Scenario& scenario,
     key.Field("sensor v1").Field(code_id).Field(truth_key).Field(entry);
     key.Field(std::to_string(sensor_seed)).Field(std::to_string(scenario.seed));
     if (c.type() == sensors::SensorType::kGnss) key.Field(faults);
-    if (scenario.mismatch) {  // the drawn unit (noise, mounts, reported covariance)
+    if (scenario.mismatch) {  // the drawn unit (noise, mounts, reported covariance, slow error)
       const MismatchOptions& m = *scenario.mismatch;
       key.Field("mismatch v1");
       for (const double v : {m.imu_spread, m.gnss_covariance_scale_min, m.gnss_covariance_scale_max,
-                             m.mount_translation_sigma_m, m.mount_rotation_sigma_deg}) {
+                             m.mount_translation_sigma_m, m.mount_rotation_sigma_deg,
+                             m.gnss_slow_error_scale_min, m.gnss_slow_error_scale_max}) {
         key.Field(NumberText(v));
       }
-      key.Field(NumberText(m.gnss_slow_error_scale_min))
-          .Field(NumberText(m.gnss_slow_error_scale_max));
     }
     keys[c.spec.id] = key.Hex();
   }
