@@ -169,6 +169,11 @@ struct MeasurementGateOptions {
   double correlated_error_sigma_m = 0.5;           // east and north
   double correlated_error_vertical_sigma_m = 1.0;  // up
   double correlated_error_tau_s = 100.0;
+  // Whether `antenna` gets the error states under estimate_correlated_error.
+  bool EstimatesCorrelatedErrorOf(const GnssAntenna& antenna) const {
+    return estimate_correlated_error == FactorUse::kOn ||
+           (estimate_correlated_error == FactorUse::kAuto && antenna.DescribesCorrelatedError());
+  }
 };
 
 // How far the setup's mounts and clocks may be from the truth (estimator/gnss_calibration_

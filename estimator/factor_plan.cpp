@@ -23,19 +23,6 @@ SlidingWindowOptions SmootherOptions(const EstimatorSensorSetup& setup,
   return s;
 }
 
-namespace {
-
-// Whether some receiver gets slow-error states (gnss_front_end.hpp, ErrorStateOf).
-bool EstimatesCorrelatedError(const EstimatorSensorSetup& setup, const MeasurementGateOptions& g) {
-  if (g.estimate_correlated_error != FactorUse::kAuto) {
-    return g.estimate_correlated_error == FactorUse::kOn && !setup.antennas.empty();
-  }
-  return std::any_of(setup.antennas.begin(), setup.antennas.end(),
-                     [](const GnssAntenna& a) { return a.DescribesCorrelatedError(); });
-}
-
-}  // namespace
-
 FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptions& o) {
   FactorPlan plan;
   for (const EstimatorSensor& s : setup.sensors) {
@@ -52,10 +39,13 @@ FactorPlan PlanFactors(const EstimatorSensorSetup& setup, const FactorGraphOptio
   // The Ceres solver's batch store holds no globals of the window (sliding_window_smoother.hpp):
   // say so before the log is read, not at the first scan.
   if (o.solver == WindowSolver::kCeres && o.batch) {
+    const bool gnss_errors =
+        std::any_of(setup.antennas.begin(), setup.antennas.end(),
+                    [&o](const GnssAntenna& a) { return o.gnss.EstimatesCorrelatedErrorOf(a); });
     const bool globals = (o.lidar.estimate_mount && !plan.lidars.empty()) ||
                          (o.non_holonomic.enabled && o.non_holonomic.estimate_mount) ||
-                         o.gnss.estimate_time_offset || EstimatesCorrelatedError(setup, o.gnss) ||
-                         o.imu_triad.any() || o.gnss_calibration.estimate_heading_baseline;
+                         o.gnss.estimate_time_offset || gnss_errors || o.imu_triad.any() ||
+                         o.gnss_calibration.estimate_heading_baseline;
     if (globals) {
       throw InputError(where +
                        "solver: ceres with batch: true cannot estimate mounts, time offsets, "

@@ -304,11 +304,8 @@ std::optional<std::array<int, 2>> GnssFrontEnd::BaselineOf(const std::string& he
 std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
   const MeasurementGateOptions& g = options_.gnss;
   const GnssAntenna& antenna = *setup_.FindAntenna(antenna_id);
+  if (!g.EstimatesCorrelatedErrorOf(antenna)) return std::nullopt;
   const bool described = antenna.DescribesCorrelatedError();
-  if (g.estimate_correlated_error == FactorUse::kOff ||
-      (g.estimate_correlated_error == FactorUse::kAuto && !described)) {
-    return std::nullopt;
-  }
   const double horizontal =
       described ? antenna.correlated_error_sigma_m : g.correlated_error_sigma_m;
   const double vertical =
