@@ -57,7 +57,8 @@ RunDetailsWriter::RunDetailsWriter(const fs::path& run_dir,
     errors_.push_back(std::make_unique<File>(
         dir / "errors.csv",
         "t_ns,status,e_x,e_y,e_z,e_along,e_across,e_yaw,e_v_long,sigma_x,sigma_y,sigma_z,"
-        "sigma_along,sigma_across,sigma_yaw,sigma_v_long,nees_pose,nees_position"));
+        "sigma_along,sigma_across,sigma_yaw,sigma_v_long,nees_pose,nees_position,e_roll,e_pitch,"
+        "sigma_roll,sigma_pitch"));
     verdicts_.push_back(std::make_unique<File>(dir / "measurements.csv", "t_ns,sensor,verdict"));
   }
 }
@@ -116,6 +117,10 @@ void RunDetailsWriter::Epoch(const reports::ReferenceState& r,
     for (const auto& nees : {e.nees_pose, e.nees_position}) {
       row += ',';
       if (nees) AppendNumber(row, *nees);
+    }
+    for (const double v : {e.errors.drpy.x(), e.errors.drpy.y(), e.sigma_roll_rad,
+                           e.sigma_pitch_rad}) {
+      Add(row, v);
     }
     errors_[k]->EndRow();
   }

@@ -52,6 +52,12 @@ EpochErrors EpochErrorsOf(const NavState& s, EstimateStatus status, const Mat6& 
   // the third row of R.
   const Mat3 R = s.q_world_imu.toRotationMatrix();
   out.sigma_yaw_rad = sigma(R.row(2).transpose(), pose_covariance.topLeftCorner<3, 3>());
+  // Roll and pitch (z-y-x angles) of a right perturbation d: roll' = d_x + sin(r) tan(p) d_y +
+  // cos(r) tan(p) d_z, pitch' = cos(r) d_y - sin(r) d_z.
+  const Vec3 rpy = so3::ToRollPitchYaw(s.q_world_imu);
+  const double sr = std::sin(rpy.x()), cr = std::cos(rpy.x()), tp = std::tan(rpy.y());
+  out.sigma_roll_rad = sigma(Vec3(1.0, sr * tp, cr * tp), pose_covariance.topLeftCorner<3, 3>());
+  out.sigma_pitch_rad = sigma(Vec3(0.0, cr, -sr), pose_covariance.topLeftCorner<3, 3>());
   // Longitudinal velocity ~ the body x axis in the world dotted with v (attitude error neglected).
   out.sigma_v_longitudinal_mps = sigma(R.col(0), velocity_covariance);
   if (const auto nees = PoseNees(out.errors, pose_covariance)) {

@@ -30,6 +30,7 @@ struct EpochErrors {
   double sigma_along_m = 0.0, sigma_across_m = 0.0;
   double sigma_yaw_rad = 0.0;
   double sigma_v_longitudinal_mps = 0.0;
+  double sigma_roll_rad = 0.0, sigma_pitch_rad = 0.0;  // of the estimate's roll and pitch angles
   std::optional<double> nees_pose, nees_position;
 };
 
