@@ -11,6 +11,16 @@ def number(text):
     return float(text) if text != "" else math.nan
 
 
+def read_header(path):
+    """The column names of the CSV file `path` (its first line); [] for an empty file."""
+    try:
+        f = open(path, newline="", encoding="utf-8")
+    except OSError as e:
+        raise ReportInputError(f"{path}: cannot read: {e.strerror}") from None
+    with f:
+        return next(csv.reader(f), None) or []
+
+
 def read_columns(path, columns):
     """Reads the columns named in `columns` (name -> converter, e.g. float or str) of the CSV
     file `path` (first line: header; other columns are ignored). Returns name -> list of values.

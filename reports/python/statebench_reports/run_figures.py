@@ -10,7 +10,7 @@ import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
 from . import decimate
-from .run_folder import ERROR_AXES
+from .run_folder import error_axes
 from .style import (ACCEPTED_COLOUR, FIX_COLOURS, LANE_COLOUR, OUTAGE_COLOUR, REJECT_COLOURS,
                     TRUTH_COLOUR, estimator_colour, rgba)
 
@@ -113,10 +113,11 @@ def errors_against_time(series, outages):
     series: [(label, index, columns of errors.csv)]. The band is drawn at its widest over each
     of MAX_BAND_POINTS stretches of the run (sigma changes slowly; the band table beside the
     figure counts every epoch against its own sigma)."""
-    titles = [f"{title} [{unit}]" for _, _, title, unit in ERROR_AXES]
-    fig = make_subplots(rows=len(ERROR_AXES), cols=1, shared_xaxes=True, vertical_spacing=0.025,
+    axes = error_axes([c for _, _, c in series])
+    titles = [f"{title} [{unit}]" for _, _, title, unit in axes]
+    fig = make_subplots(rows=len(axes), cols=1, shared_xaxes=True, vertical_spacing=0.025,
                         subplot_titles=titles)
-    for row, (error_col, sigma_col, _, _) in enumerate(ERROR_AXES, start=1):
+    for row, (error_col, sigma_col, _, _) in enumerate(axes, start=1):
         for label, index, c in series:
             colour = estimator_colour(index)
             band = decimate.bucket_maxima(c["t_ns"], c[sigma_col], MAX_BAND_POINTS)
@@ -136,10 +137,10 @@ def errors_against_time(series, outages):
                 showlegend=row == 1,
                 hovertemplate=label + " t %{x} s: %{y}<extra></extra>"), row=row, col=1)
     _shade_outages(fig, outages, rows=True)
-    fig.update_layout(height=175 * len(ERROR_AXES) + 80, hovermode="closest",
+    fig.update_layout(height=175 * len(axes) + 80, hovermode="closest",
                       margin={"l": 70, "r": 20, "t": 40, "b": 50},
                       legend={"orientation": "h", "y": 1.02, "yanchor": "bottom", "x": 0})
-    fig.update_xaxes(title_text="t [s]", row=len(ERROR_AXES), col=1)
+    fig.update_xaxes(title_text="t [s]", row=len(axes), col=1)
     for annotation in fig.layout.annotations:
         annotation.font = {"size": 12}
     return fig

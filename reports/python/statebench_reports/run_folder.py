@@ -11,7 +11,7 @@ import json
 import math
 import os
 
-from .csv_columns import number, read_columns
+from .csv_columns import number, read_columns, read_header
 from .errors import ReportInputError
 
 ERROR_AXES = [  # (column, sigma column, title, unit)
@@ -20,9 +20,18 @@ ERROR_AXES = [  # (column, sigma column, title, unit)
     ("e_z", "sigma_z", "z (up)", "m"),
     ("e_along", "sigma_along", "along track", "m"),
     ("e_across", "sigma_across", "across track", "m"),
+    ("e_roll", "sigma_roll", "roll", "rad"),
+    ("e_pitch", "sigma_pitch", "pitch", "rad"),
     ("e_yaw", "sigma_yaw", "yaw", "rad"),
     ("e_v_long", "sigma_v_long", "longitudinal velocity", "m/s"),
 ]
+# Axes an errors.csv written before they existed does not have (their plots are left out).
+OPTIONAL_ERROR_COLUMNS = {"e_roll", "e_pitch"}
+
+
+def error_axes(columns):
+    """The ERROR_AXES present in every one of `columns` (dicts of errors.csv columns)."""
+    return [a for a in ERROR_AXES if all(a[0] in c for c in columns)]
 
 
 def _seconds(t_ns_text):
@@ -82,7 +91,10 @@ class Estimator:
         if not self.has("errors.csv"):
             return None
         columns = {"t_ns": _seconds, "status": str, "nees_pose": number, "nees_position": number}
+        header = read_header(self.file("errors.csv"))
         for error, sigma, _, _ in ERROR_AXES:
+            if error in OPTIONAL_ERROR_COLUMNS and error not in header:
+                continue
             columns[error] = number
             columns[sigma] = number
         return read_columns(self.file("errors.csv"), columns)

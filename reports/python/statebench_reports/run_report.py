@@ -13,7 +13,7 @@ import sys
 from . import entry_point, run_figures, sumo_net
 from .figures_format import fmt, percent
 from .page import Page
-from .run_folder import ERROR_AXES, RunFolder, read_text
+from .run_folder import RunFolder, error_axes, read_text
 
 # The metrics table: (row title, key path into metrics.json).
 METRIC_ROWS = [
@@ -176,7 +176,8 @@ def _trajectory_section(page, run, outages, missing):
 def _band_table(page, series, outages):
     """Fraction of epochs whose error lies inside the estimator's own +-3 sigma, per axis,
     over the run and inside the outages."""
-    header = ["estimator", "epochs"] + [title for _, _, title, _ in ERROR_AXES]
+    axes = error_axes([c for _, _, c in series])
+    header = ["estimator", "epochs"] + [title for _, _, title, _ in axes]
     rows = []
     windows = [("whole run", None)] + [(f"GNSS outage {k + 1} ({b:g}-{e:g} s)", (b, e))
                                        for k, (b, e) in enumerate(outages)]
@@ -188,7 +189,7 @@ def _band_table(page, series, outages):
                 idx = range(len(c["t_ns"]))
             cells = []
             count = 0
-            for error_col, sigma_col, _, _ in ERROR_AXES:
+            for error_col, sigma_col, _, _ in axes:
                 errors = [c[error_col][i] for i in idx]
                 sigmas = [3 * c[sigma_col][i] for i in idx]
                 fraction, count = run_figures.inside_fraction(errors, [-s for s in sigmas], sigmas)
@@ -212,8 +213,8 @@ def _errors_section(page, run, outages, bounds, missing):
                   "(docs/estimate-format.md, \"Run details\").")
         return
     page.figure(run_figures.errors_against_time(series, outages), caption=(
-        "Estimate minus truth per axis (along and across the truth's heading; yaw wrapped) and "
-        "each estimator's own ±3σ from its covariance, shaded around zero: a consistent "
+        "Estimate minus truth per axis (along and across the truth's heading; roll, pitch and "
+        "yaw wrapped) and each estimator's own ±3σ from its covariance, shaded around zero: a consistent "
         "estimator's error stays inside its band about 99.7 % of the time. Drawn thinned: the "
         "errors keep each bucket's extremes, the band is each of 300 stretches at its widest; "
         "the table below counts every epoch against its own σ. A click on an estimator in the "
