@@ -373,6 +373,16 @@ std::optional<InitialState> StateInitializer::TryInitializeEnu() {
       R0.transpose() * world_rotation_var.asDiagonal() * R0;
   P.block<3, 3>(kPositionIndex, kPositionIndex) =
       b.fix.covariance + (lever * lever + drift * drift) * Mat3::Identity();
+  if (anchor->fit_covariance) {
+    // A moving start fitted over its chord: the fit's position at t0 rests on every fix of it,
+    // not on the newest alone (p0 = p_a + v_a T + g T^2 / 2 + R_a dp).
+    const ImuPreintegration pim = Preintegrate(x.t_ns, t0, x.gyro_bias);
+    Eigen::Matrix<double, 3, 9> J;
+    J << Mat3::Identity(), ToSeconds(t0 - x.t_ns) * Mat3::Identity(),
+        -x.q_world_imu.toRotationMatrix() * so3::Hat(pim.delta_p());
+    const Mat3 fitted = J * *anchor->fit_covariance * J.transpose();
+    P.block<3, 3>(kPositionIndex, kPositionIndex) = 0.5 * (fitted + fitted.transpose());
+  }
   P.block<3, 3>(kVelocityIndex, kVelocityIndex) = sigma_v * sigma_v * Mat3::Identity();
   P.block<3, 3>(kGyroBiasIndex, kGyroBiasIndex) = sigma_bg * sigma_bg * Mat3::Identity();
   P.block<3, 3>(kAccelBiasIndex, kAccelBiasIndex) =

@@ -138,6 +138,10 @@ class StateInitializer {
     double sigma_tilt = 0.0;
     double sigma_v_fix = 0.0;  // velocity error from the fix noise
     bool still_now = false;
+    // A moving start fitted over its chord (FitMovingAnchor): the covariance of (p, v, rotation
+    // as the right perturbation) at state.t_ns, from the fit; the start's position covariance
+    // is this one carried to the start instead of the newest fix's.
+    std::optional<Eigen::Matrix<double, 9, 9>> fit_covariance;
   };
 
   void UpdateStill();

@@ -2,6 +2,7 @@
 
 // The moving start refined over every fix of its chord (state_initializer.hpp, MovingAnchor).
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -25,7 +26,10 @@ constexpr std::size_t kMovingFitMinFixes = 4;
 // (p_a, v_a, R_a = R Exp(dtheta)) over all of them, weighted by their covariances, with the
 // three-fix attitude as a prior (tilt sigma moving_roll_pitch_sigma_rad, yaw the reference's
 // sigma, about the world axes): the velocity then rests on every fix, not two. The fit is kept
-// only if it converges to finite values.
+// only if it converges to finite values. Its covariance is the inverse of the normal matrix at
+// the solution, scaled up by the fixes' own scatter about the fit when it is larger than their
+// covariances say (chi-square over the degrees of freedom, never below 1): what the model
+// leaves out (the IMU's biases over the chord, a receiver's slow error) shows there.
 void StateInitializer::FitMovingAnchor(const Fix& a, const YawReference& yaw,
                                        Anchor* anchor) const {
   const TimeNs t_a = a.fix.header.stamp_ns;
@@ -54,13 +58,16 @@ void StateInitializer::FitMovingAnchor(const Fix& a, const YawReference& yaw,
   }
 
   NavState x = anchor->state;
+  Mat9x9 H = Mat9x9::Zero();
+  double chi2 = 0.0;
   const Mat3 R_prior = x.q_world_imu.toRotationMatrix();
   const double sigma_tilt = options_.moving_roll_pitch_sigma_rad;
   const Vec3 prior_information(1.0 / (sigma_tilt * sigma_tilt), 1.0 / (sigma_tilt * sigma_tilt),
                                1.0 / (yaw.sigma_rad * yaw.sigma_rad));
   for (int iteration = 0; iteration < kMovingFitIterations; ++iteration) {
     const Mat3 R = x.q_world_imu.toRotationMatrix();
-    Mat9x9 H = Mat9x9::Zero();
+    H.setZero();
+    chi2 = 0.0;
     Vec9x1 g = Vec9x1::Zero();
     for (std::size_t k = 0; k < chord.size(); ++k) {
       const Vec3 predicted = x.p_world + x.v_world * tau[k] +
@@ -70,6 +77,7 @@ void StateInitializer::FitMovingAnchor(const Fix& a, const YawReference& yaw,
       J << Mat3::Identity(), tau[k] * Mat3::Identity(), -R * so3::Hat(u[k]);
       H.noalias() += J.transpose() * W[k] * J;
       g.noalias() += J.transpose() * W[k] * r;
+      chi2 += r.dot(W[k] * r);
     }
     // The prior on the world-frame attitude error phi = log(R R_prior^T), phi ~ R dtheta.
     const Vec3 phi = so3::Log<double>(Quat(R * R_prior.transpose()));
@@ -88,7 +96,15 @@ void StateInitializer::FitMovingAnchor(const Fix& a, const YawReference& yaw,
   if (!x.p_world.allFinite() || !x.v_world.allFinite() || !x.q_world_imu.coeffs().allFinite()) {
     return;
   }
+  // The normal matrix and chi-square of the last linearisation (at most one step from x).
+  const Eigen::LDLT<Mat9x9> ldlt(H);
+  const Mat9x9 covariance = ldlt.solve(Mat9x9::Identity());
+  const double dof = 3.0 * static_cast<double>(chord.size()) - 9.0;
+  const double scale = dof > 0.0 ? std::max(1.0, chi2 / dof) : 1.0;
   anchor->state = x;
+  if (ldlt.info() == Eigen::Success && covariance.allFinite()) {
+    anchor->fit_covariance = scale * 0.5 * (covariance + covariance.transpose());
+  }
 }
 
 }  // namespace statebench::est
