@@ -371,8 +371,6 @@ std::optional<InitialState> StateInitializer::TryInitializeEnu() {
   P.setZero();
   P.block<3, 3>(kRotationIndex, kRotationIndex) =
       R0.transpose() * world_rotation_var.asDiagonal() * R0;
-  P.block<3, 3>(kPositionIndex, kPositionIndex) =
-      b.fix.covariance + (lever * lever + drift * drift) * Mat3::Identity();
   if (anchor->fit_covariance) {
     // A moving start fitted over its chord: the fit's position at t0 rests on every fix of it,
     // not on the newest alone (p0 = p_a + v_a T + g T^2 / 2 + R_a dp).
@@ -382,6 +380,9 @@ std::optional<InitialState> StateInitializer::TryInitializeEnu() {
         -x.q_world_imu.toRotationMatrix() * so3::Hat(pim.delta_p());
     const Mat3 fitted = J * *anchor->fit_covariance * J.transpose();
     P.block<3, 3>(kPositionIndex, kPositionIndex) = 0.5 * (fitted + fitted.transpose());
+  } else {
+    P.block<3, 3>(kPositionIndex, kPositionIndex) =
+        b.fix.covariance + (lever * lever + drift * drift) * Mat3::Identity();
   }
   P.block<3, 3>(kVelocityIndex, kVelocityIndex) = sigma_v * sigma_v * Mat3::Identity();
   P.block<3, 3>(kGyroBiasIndex, kGyroBiasIndex) = sigma_bg * sigma_bg * Mat3::Identity();
