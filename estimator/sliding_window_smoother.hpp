@@ -218,9 +218,9 @@ class SlidingWindowSmoother {
 
   // With keep_lagged_states: the fixed-lag smoother's smoothed output. Every state since
   // Initialize as last estimated before it left the window (the window's states as they are
-  // now), each with its marginal covariance in the window at that time (chain_system.hpp's
-  // ChainMarginalCovariances of the window linearised after the solve that marginalised it),
-  // and every IMU sample since the first state; usable, no iterations. InputError without
+  // now), each with its marginal covariance in the window at that time (the globals' share in
+  // it: bordered_chain.hpp's BorderedChainMarginalCovariances of the window linearised after the
+  // solve that marginalised it), and every IMU sample since the first state; usable, no iterations. InputError without
   // keep_lagged_states or before Initialize.
   SmootherBatch LaggedStates() const;
 
