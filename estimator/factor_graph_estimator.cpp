@@ -188,7 +188,7 @@ struct FactorGraphEstimator::Impl {
       return;  // a degenerate geometry (e.g. fixes on one spot): wait for more data
     }
     try {
-      ctx.smoother.Initialize(init->state, init->covariance);
+      ctx.smoother.Initialize(init->state, init->SmootherPrior());
     } catch (const InputError&) {
       return;  // covariance not positive definite: same
     }
@@ -197,10 +197,10 @@ struct FactorGraphEstimator::Impl {
     ctx.local_frame = init->local_frame && !position_sensors.empty();
     ctx.diag.local_frame = init->local_frame;
     ctx.diag.Initialized(x.t_ns, init->method);
-    ctx.output.SetAnchor(PropagatedState{x, init->covariance});
+    ctx.output.SetAnchor(PropagatedState{x, init->OutputCovariance()});
     blend.Start(x.t_ns);  // nothing was shown before
     next_solve_ns = x.t_ns + FromSeconds(options.solve_interval_s);
-    for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(x.t_ns);
+    for (MeasurementFrontEnd* f : front_ends) f->OnInitialized(*init);
   }
 
   // ---- 3b. From a local frame into ENU ------------------------------------------------------

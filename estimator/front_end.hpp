@@ -188,7 +188,7 @@ class MeasurementFrontEnd {
   virtual void AfterRelease() {}
   // Before the first state is set: may refine it with what this front end knows.
   virtual void RefineInitialState(const ImuSample& sample, InitialState* init) const {}
-  virtual void OnInitialized(TimeNs t_ns) {}
+  virtual void OnInitialized(const InitialState& init) {}
   // The estimator starts over (lost): forget what refers to the old window's states.
   virtual void OnRestart() {}
   // After a solve: the states that left the window (final), oldest first.

@@ -101,10 +101,12 @@ Vec3 GnssFrontEnd::RecentGyro(TimeNs t_ns) const {
   return best != nullptr ? best->gyro : Vec3::Zero();
 }
 
-void GnssFrontEnd::OnInitialized(TimeNs t_ns) {
+void GnssFrontEnd::OnInitialized(const InitialState& init) {
+  const TimeNs t_ns = init.state.t_ns;
   alignment_.Clear();
   gnss_gate_.last_accepted_ns = heading_gate_.last_accepted_ns = t_ns;
   velocity_gate_.last_accepted_ns = t_ns;
+  AddStartAsFix(init);
 }
 
 void GnssFrontEnd::OnRestart() {
@@ -305,16 +307,12 @@ std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& 
   const MeasurementGateOptions& g = options_.gnss;
   const GnssAntenna& antenna = *setup_.FindAntenna(antenna_id);
   if (!g.EstimatesCorrelatedErrorOf(antenna)) return std::nullopt;
-  const bool described = antenna.DescribesCorrelatedError();
-  const double horizontal =
-      described ? antenna.correlated_error_sigma_m : g.correlated_error_sigma_m;
-  const double vertical =
-      described ? antenna.correlated_error_vertical_sigma_m : g.correlated_error_vertical_sigma_m;
-  const double tau = described ? antenna.correlated_error_tau_s : g.correlated_error_tau_s;
+  const double tau = antenna.DescribesCorrelatedError() ? antenna.correlated_error_tau_s
+                                                        : g.correlated_error_tau_s;
+  const Vec3 sigma = SlowErrorSigmas(antenna);
   std::array<int, 3> indices{};
   for (int k = 0; k < 3; ++k) {
-    const double sigma = k < 2 ? horizontal : vertical;
-    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma, 5.0 * sigma, tau);
+    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma[k], 5.0 * sigma[k], tau);
   }
   return indices;
 }

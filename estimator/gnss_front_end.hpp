@@ -64,7 +64,12 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   void Process(const Measurement& m) override;
   void EndOfStamp() override;
   void OnImu(const ImuSample& sample) override;
-  void OnInitialized(TimeNs t_ns) override;
+  // A start made of the fixes of a receiver whose slow error the smoother estimates (the setup's
+  // only antenna): `position_slow_error` (gnss_front_end_start.cpp).
+  void RefineInitialState(const ImuSample& sample, InitialState* init) const override;
+  // The gates start at the start's stamp; a start with a slow error becomes a fix on the first
+  // state's position plus the receiver's error states (created here).
+  void OnInitialized(const InitialState& init) override;
   void OnRestart() override;
   void OnMarginalized(std::span<const NavState> left) override;
   TimeNs OldestStampNeeded() const override;
@@ -105,6 +110,15 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   // error (with the setup's sigmas and tau where it does); nullopt otherwise.
   static constexpr const char* kErrorGlobals[3] = {"error_east_m", "error_north_m", "error_up_m"};
   std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
+  // The stationary sigmas (east, north, up) of the antenna's slow error: the setup's figures where
+  // it describes them, else the options'.
+  Vec3 SlowErrorSigmas(const GnssAntenna& antenna) const;
+  // The antenna whose slow error a GNSS start shares (the setup's only antenna, when its error
+  // is estimated), else null.
+  const GnssAntenna* StartErrorAntenna() const;
+  // With a start's position_slow_error: the start's position and covariance as a fix on the
+  // first state's IMU position plus the antenna's error states.
+  void AddStartAsFix(const InitialState& init);
   // The fix as the gate sees it: less the antenna's current error estimate, its covariance
   // plus the estimate's (unchanged when the error is not estimated).
   GnssPositionEnu LessErrorEstimate(const GnssPositionEnu& fix) const;

@@ -65,6 +65,31 @@ struct InitialState {
   // "moving (odometry, local frame)", ...
   std::string method;
   bool local_frame = false;  // position 0 and yaw 0 at the start (TryInitializeLocal)
+  // The slow error (ENU covariance) the start's position shares with the fixes it was made of,
+  // when the smoother estimates that error (GnssFrontEnd::RefineInitialState); zero otherwise.
+  // The position is then the fixes' (position + slow error): the smoother gets it as a fix on
+  // both (GnssFrontEnd::OnInitialized) instead of a prior on the position alone, and the
+  // position's own covariance is `covariance`'s plus this.
+  Mat3 position_slow_error = Mat3::Zero();
+
+  // m^2 added to the position's variance of the smoother's prior with position_slow_error: 100
+  // m, far more than any start's position error, far less than would upset the solver's scaling.
+  static constexpr double kReleasedPositionVariance = 1e4;
+  // The smoother's prior on the first state: `covariance`, the position released when
+  // position_slow_error is set.
+  Mat15 SmootherPrior() const {
+    Mat15 p = covariance;
+    if (!position_slow_error.isZero(0.0)) {
+      p.block<3, 3>(3, 3) += kReleasedPositionVariance * Mat3::Identity();
+    }
+    return p;
+  }
+  // The start's covariance with the position's own: the slow error added.
+  Mat15 OutputCovariance() const {
+    Mat15 p = covariance;
+    p.block<3, 3>(3, 3) += position_slow_error;
+    return p;
+  }
 };
 
 // How a setup starts in a local frame: without an absolute-position sensor always; with one

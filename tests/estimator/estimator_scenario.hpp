@@ -50,6 +50,11 @@ struct ScenarioOptions {
   double gnss_latency_s = 0.1;
   double gnss_extra_latency_s = 0.0;  // uniform in [0, this): out-of-order delivery
   double outage_begin_s = 1e9, outage_end_s = 1e9;
+  // A slowly varying error on top (first-order Gauss-Markov per axis and antenna, stationary
+  // sigmas and correlation time), not in the reported covariance; off at 0. Drawn from its own
+  // stream, so turning it on leaves the other bits unchanged.
+  double gnss_slow_sigma_h = 0.0, gnss_slow_sigma_v = 0.0;
+  double gnss_slow_tau_s = 100.0;
   // Doppler velocity of the antenna (v + R (w x l)) with white noise of these sigmas, reported
   // as they are; drawn from its own stream, so turning it on leaves the other bits unchanged.
   bool gnss_velocity = false;
@@ -83,7 +88,9 @@ inline Scenario MakeScenario(const ScenarioOptions& o) {
   auto rng = MakeRng(o.seed, "estimator_scenario");
   auto latency_rng = MakeRng(o.seed, "estimator_scenario_latency");
   auto velocity_rng = MakeRng(o.seed, "estimator_scenario_velocity");
+  auto slow_rng = MakeRng(o.seed, "estimator_scenario_slow_error");
   NormalSampler velocity_normal;
+  NormalSampler normal_slow;
   NormalSampler normal;
   const auto r3 = [&] { return Vec3(normal(rng), normal(rng), normal(rng)); };
   const LocalEnuFrame frame(kTestOrigin);
@@ -110,16 +117,32 @@ inline Scenario MakeScenario(const ScenarioOptions& o) {
     sc.stream.push_back(s);
   }
   const int num_fix = static_cast<int>(std::floor(o.duration_s * o.gnss_rate_hz));
+  const Vec3 slow_sigma(o.gnss_slow_sigma_h, o.gnss_slow_sigma_h, o.gnss_slow_sigma_v);
+  const double slow_rho = std::exp(-1.0 / (o.gnss_rate_hz * o.gnss_slow_tau_s));
+  std::vector<Vec3> slow(o.antennas.size());
+  for (Vec3& e : slow) {
+    for (int i = 0; i < 3; ++i) e[i] = slow_sigma[i] * normal_slow(slow_rng);
+  }
   for (int k = 0; k <= num_fix; ++k) {
     const TimeNs t_ns = FromSeconds(o.start_s + k / o.gnss_rate_hz);
     const double t = ToSeconds(t_ns);
     const double extra = o.gnss_extra_latency_s * Uniform01(latency_rng);
+    if (k > 0) {
+      for (Vec3& e : slow) {
+        for (int i = 0; i < 3; ++i) {
+          e[i] = slow_rho * e[i] +
+                 std::sqrt(1.0 - slow_rho * slow_rho) * slow_sigma[i] * normal_slow(slow_rng);
+        }
+      }
+    }
     if (t >= o.outage_begin_s && t < o.outage_end_s) continue;
-    for (const Antenna& a : o.antennas) {
+    for (std::size_t ai = 0; ai < o.antennas.size(); ++ai) {
+      const Antenna& a = o.antennas[ai];
       const NavState truth = sc.trajectory.State(t_ns);
       Vec3 p = truth.p_world + truth.q_world_imu * a.p_imu;
       p += Vec3(o.gnss_sigma_h * normal(rng), o.gnss_sigma_h * normal(rng),
                 o.gnss_sigma_v * normal(rng));
+      if (o.gnss_slow_sigma_h > 0.0 || o.gnss_slow_sigma_v > 0.0) p += slow[ai];
       const GeodeticPoint g = frame.ToGeodetic(p);
       GnssFix fix;
       fix.header.sensor_id = a.id;

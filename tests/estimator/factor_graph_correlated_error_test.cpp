@@ -7,6 +7,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "estimator/factor_graph_estimator.hpp"
 #include "estimator_scenario.hpp"
@@ -88,6 +89,30 @@ TEST(FactorGraphCorrelatedError, TrueGivesAnUndescribedReceiverTheOptionsSigmas)
   const MeasurementGateOptions defaults = FactorGraphOptions{}.gnss;
   ExpectPriors(GlobalsOfRun(SetupWith(false), FactorUse::kOn), defaults.correlated_error_sigma_m,
                defaults.correlated_error_vertical_sigma_m);
+}
+
+// The start is made of the receiver's fixes, so it carries the receiver's slow error: with the
+// error described, the first estimate's position covariance is the start's plus the error's
+// (gnss_front_end_start.cpp): exactly, the start being the same fixes' either way.
+TEST(FactorGraphCorrelatedError, TheStartCarriesTheReceiversSlowError) {
+  const testing::Scenario sc = testing::MakeScenario(Options());
+  FactorGraphOptions options;
+  options.origin = testing::kTestOrigin;
+  std::vector<StateEstimate> with, without;
+  for (const bool described : {true, false}) {
+    FactorGraphEstimator estimator(SetupWith(described), options);
+    std::vector<StateEstimate>& out = described ? with : without;
+    testing::FeedOutputs(estimator, sc.stream, [&](TimeNs, const std::optional<StateEstimate>& e) {
+      if (e) out.push_back(*e);
+    });
+  }
+  ASSERT_FALSE(with.empty());
+  ASSERT_FALSE(without.empty());
+  ASSERT_EQ(with.front().state.t_ns, without.front().state.t_ns);  // the same start
+  const Mat3 added = with.front().covariance.block<3, 3>(3, 3) -
+                     without.front().covariance.block<3, 3>(3, 3);
+  const Vec3 slow(0.17, 0.17, 0.255);
+  EXPECT_TRUE(added.isApprox(Mat3(slow.cwiseAbs2().asDiagonal()), 1e-9)) << added;
 }
 
 }  // namespace
