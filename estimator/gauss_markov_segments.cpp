@@ -66,7 +66,10 @@ GaussMarkovSegments::GaussMarkovSegments(const std::vector<TimeNs>& times,
     std::vector<std::size_t> starts{first};
     std::vector<std::size_t> segment_of(chain->size(), 0);
     for (std::size_t k = first + 1; k < chain->size(); ++k) {
-      if (ToSeconds(times[k] - times[starts.back()]) >= length_s) starts.push_back(k);
+      if (ToSeconds(times[k] - times[starts.back()]) >= length_s &&
+          static_cast<int>(starts.size()) < max_segments) {
+        starts.push_back(k);
+      }
       segment_of[k] = starts.size() - 1;
     }
     segments_.push_back(static_cast<int>(starts.size()));

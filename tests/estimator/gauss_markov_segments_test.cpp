@@ -120,6 +120,14 @@ TEST(GaussMarkovSegments, LeavesUnusedAndShortProcessesAndCapsTheCount) {
     EXPECT_EQ(globals.size(), 2u);
     EXPECT_EQ(first[49].factors, std::vector<const FactorRecord*>{&records[49]});
   }
+  {
+    // 320 s in segments of exactly 320 / 32 = 10 s: the state at 320 s stays in the 32nd.
+    std::vector<ChainState> first(chain.begin(), chain.begin() + 321);
+    const std::vector<TimeNs> first_times(times.begin(), times.begin() + 321);
+    const GaussMarkovSegments s(first_times, {{&used, 0.5, 100.0}}, 32, &first, &globals);
+    EXPECT_EQ(s.segments(), std::vector<int>{32});
+    globals.resize(2);
+  }
   std::vector<ChainState> copy = chain;
   const GaussMarkovSegments s(times, {{&used, 0.5, 10.0}}, 32, &copy, &globals);
   // A tenth of tau would be 1 s (400 segments); 32 at most: 399 s / 32 = 12.47 s, so with a state
