@@ -103,7 +103,8 @@ GaussMarkovSegments::GaussMarkovSegments(const std::vector<TimeNs>& times,
       const double dt_s = ToSeconds(times[starts[s + 1]] - times[starts[s]]);
       transitions_.push_back(
           std::make_unique<GaussMarkovTransition>(p.sigma, std::exp(-dt_s / p.tau_s)));
-      records_.push_back(FactorRecord{transitions_.back().get(), nullptr, {value[s], value[s + 1]}});
+      records_.push_back(
+          FactorRecord{transitions_.back().get(), nullptr, {value[s], value[s + 1]}});
       (*chain)[starts[s + 1]].factors.push_back(&records_.back());
     }
   }

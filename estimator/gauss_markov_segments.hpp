@@ -9,9 +9,9 @@
 // average's.
 //
 // GaussMarkovSegments gives the batch the process instead: the chain's states are cut into
-// segments of at most `segment_s` (about a tenth of the correlation time), each segment gets its
-// own value of the process, the factors anchored in a segment are rewritten to use it, and
-// consecutive values are tied by the process's step
+// segments (SegmentLength: a tenth of the correlation time, longer for a very long run), each
+// with its own value of the process, the factors anchored in a segment are rewritten to use it,
+// and consecutive values are tied by the process's step
 //   x_{s+1} = rho x_s + w,  rho = exp(-dt / tau),  w ~ N(0, sigma^2 (1 - rho^2)),
 // dt being the time between the segments' first states (GaussMarkovTransition). The newest
 // segment keeps the live value (the window's), so the batch leaves it solved as the window's.
@@ -65,9 +65,9 @@ class GaussMarkovSegments {
   // values are appended to `globals` (which must already hold every process's live value). The
   // new values start at the process's mean, 0. The chain then points into this object: keep it
   // alive while the chain is used.
-  GaussMarkovSegments(const std::vector<TimeNs>& times, const std::vector<GaussMarkovGlobal>& processes,
-                      int max_segments, std::vector<ChainState>* chain,
-                      std::vector<double*>* globals);
+  GaussMarkovSegments(const std::vector<TimeNs>& times,
+                      const std::vector<GaussMarkovGlobal>& processes, int max_segments,
+                      std::vector<ChainState>* chain, std::vector<double*>* globals);
 
   GaussMarkovSegments(const GaussMarkovSegments&) = delete;
   GaussMarkovSegments& operator=(const GaussMarkovSegments&) = delete;

@@ -304,15 +304,12 @@ std::optional<std::array<int, 2>> GnssFrontEnd::BaselineOf(const std::string& he
 }
 
 std::optional<std::array<int, 3>> GnssFrontEnd::ErrorStateOf(const std::string& antenna_id) {
-  const MeasurementGateOptions& g = options_.gnss;
   const GnssAntenna& antenna = *setup_.FindAntenna(antenna_id);
-  if (!g.EstimatesCorrelatedErrorOf(antenna)) return std::nullopt;
-  const double tau = antenna.DescribesCorrelatedError() ? antenna.correlated_error_tau_s
-                                                        : g.correlated_error_tau_s;
-  const Vec3 sigma = SlowErrorSigmas(antenna);
+  if (!options_.gnss.EstimatesCorrelatedErrorOf(antenna)) return std::nullopt;
+  const SlowError e = SlowErrorOf(antenna);
   std::array<int, 3> indices{};
   for (int k = 0; k < 3; ++k) {
-    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], sigma[k], 5.0 * sigma[k], tau);
+    indices[k] = ctx_.Global(antenna_id, kErrorGlobals[k], e.sigma[k], 5.0 * e.sigma[k], e.tau_s);
   }
   return indices;
 }

@@ -110,9 +110,13 @@ class GnssFrontEnd final : public MeasurementFrontEnd {
   // error (with the setup's sigmas and tau where it does); nullopt otherwise.
   static constexpr const char* kErrorGlobals[3] = {"error_east_m", "error_north_m", "error_up_m"};
   std::optional<std::array<int, 3>> ErrorStateOf(const std::string& antenna_id);
-  // The stationary sigmas (east, north, up) of the antenna's slow error: the setup's figures where
-  // it describes them, else the options'.
-  Vec3 SlowErrorSigmas(const GnssAntenna& antenna) const;
+  // The antenna's slow error as the smoother models it: stationary sigmas (east, north, up) and
+  // correlation time, the setup's figures where it describes them, else the options'.
+  struct SlowError {
+    Vec3 sigma = Vec3::Zero();
+    double tau_s = 0.0;
+  };
+  SlowError SlowErrorOf(const GnssAntenna& antenna) const;
   // The antenna whose slow error a GNSS start shares (the setup's only antenna, when its error
   // is estimated), else null.
   const GnssAntenna* StartErrorAntenna() const;

@@ -220,8 +220,8 @@ class SlidingWindowSmoother {
   // Initialize as last estimated before it left the window (the window's states as they are
   // now), each with its marginal covariance in the window at that time (the globals' share in
   // it: bordered_chain.hpp's BorderedChainMarginalCovariances of the window linearised after the
-  // solve that marginalised it), and every IMU sample since the first state; usable, no iterations. InputError without
-  // keep_lagged_states or before Initialize.
+  // solve that marginalised it), and every IMU sample since the first state; usable, no
+  // iterations. InputError without keep_lagged_states or before Initialize.
   SmootherBatch LaggedStates() const;
 
   NavState NewestState() const;

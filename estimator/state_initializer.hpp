@@ -80,14 +80,14 @@ struct InitialState {
   Mat15 SmootherPrior() const {
     Mat15 p = covariance;
     if (!position_slow_error.isZero(0.0)) {
-      p.block<3, 3>(3, 3) += kReleasedPositionVariance * Mat3::Identity();
+      p.block<3, 3>(kPositionIndex, kPositionIndex) += kReleasedPositionVariance * Mat3::Identity();
     }
     return p;
   }
   // The start's covariance with the position's own: the slow error added.
   Mat15 OutputCovariance() const {
     Mat15 p = covariance;
-    p.block<3, 3>(3, 3) += position_slow_error;
+    p.block<3, 3>(kPositionIndex, kPositionIndex) += position_slow_error;
     return p;
   }
 };
