@@ -8,16 +8,21 @@ SweepSchedule::SweepSchedule(std::vector<std::string> groups)
     : groups_(std::move(groups)), started_(groups_.size(), false) {}
 
 std::optional<std::size_t> SweepSchedule::Next() {
-  for (std::size_t i = 0; i < groups_.size(); ++i) {
-    if (started_[i]) continue;
-    const std::string& g = groups_[i];
-    if (running_[g] > 0 && !warm_.count(g)) continue;  // its first run is still computing the stages
+  const auto start = [&](std::size_t i) {
     started_[i] = true;
     ++started_count_;
-    ++running_[g];
+    ++running_[groups_[i]];
     return i;
+  };
+  // A run whose group's stages are cached first: it reads them while they are still there.
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    if (!started_[i] && warm_.count(groups_[i])) return start(i);
   }
-  return std::nullopt;
+  // Then the first run of a group nobody computes yet.
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    if (!started_[i] && running_[groups_[i]] == 0) return start(i);
+  }
+  return std::nullopt;  // every run left waits for its group's first run
 }
 
 void SweepSchedule::Finished(std::size_t i) {

@@ -4,7 +4,10 @@
 // them: a second run of the group started while the first still computes would compute it all
 // again. So a group's runs wait while its first run is under way, and other groups' runs go
 // first; when nothing else is left, the free job slots wait too (the waiting runs then take a
-// second each instead of the whole simulation).
+// second each instead of the whole simulation). Once a group's stages are cached, its runs go
+// before any new group: in the expansion's order a group's runs are a whole combination of
+// seeds apart, and a cache smaller than the sweep's streams (setup 2: about 3 GB per seed,
+// against the 20 GB default limit) would have evicted the entries before they were read.
 #pragma once
 
 #include <cstddef>
@@ -21,8 +24,9 @@ class SweepSchedule {
   // groups[i]: the simulation group of run i, in the order the runs should go.
   explicit SweepSchedule(std::vector<std::string> groups);
 
-  // The next run to start (marked started), or nullopt when every run left waits for a running
-  // one of its group (or none is left).
+  // The next run to start (marked started): the first run left of a group with a finished run,
+  // else the first run of a group with none under way; nullopt when every run left waits for a
+  // running one of its group (or none is left).
   std::optional<std::size_t> Next();
   // Run i ended (ok or failed: either way its group stops waiting).
   void Finished(std::size_t i);
