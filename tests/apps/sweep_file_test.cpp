@@ -75,6 +75,21 @@ TEST_F(SweepFileTest, GridExpansionWithIdsAndParameters) {
   EXPECT_NE(runs[0].scenario_yaml.find("cep_m: 1.0"), std::string::npos);
 }
 
+// Every sweep the repository ships (scenarios/sweeps/, the commands of docs/ and the closing
+// notes) loads and expands as `statebench sweep` would check it before running anything.
+TEST_F(SweepFileTest, EveryShippedSweepExpands) {
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator("scenarios/sweeps")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++files;
+    SCOPED_TRACE(entry.path().string());
+    std::vector<SweepRun> runs;
+    EXPECT_NO_THROW(runs = ExpandSweep(LoadSweepFile(entry.path()), "v1"));
+    EXPECT_FALSE(runs.empty());
+  }
+  EXPECT_GT(files, 0);
+}
+
 // An axis that changes nothing the runs use (an option of an estimator the sweep does not run)
 // would repeat runs under one id: refused.
 TEST_F(SweepFileTest, AnAxisThatChangesNothingIsRefused) {
