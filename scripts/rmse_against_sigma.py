@@ -11,37 +11,37 @@ real-time output against the batch, the filter-to-smoother gap of that model
 
   python3 scripts/rmse_against_sigma.py OUT/results.db fg_paper_inputs --reference batch=true
 
-Only seeds present in every group are used. Standard library only.
+Only seeds present in every group are used. Reads the CSV files with reports/python's
+statebench_reports (standard library only).
 """
 import argparse
-import csv
 import json
 import math
 import os
 import sqlite3
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports",
+                                "python"))
+from statebench_reports.csv_columns import number, read_columns  # noqa: E402
+from statebench_reports.errors import ReportInputError  # noqa: E402
+
 AXES = ("x", "y", "yaw", "v_long")
 
 
 def run_figures(errors_csv):
-    """Per axis (RMSE, RMS sigma) over the rows whose error and sigma are both finite."""
-    sums = {axis: [0.0, 0.0, 0] for axis in AXES}
-    with open(errors_csv, newline="") as f:
-        for row in csv.DictReader(f):
-            for axis in AXES:
-                try:
-                    e = float(row["e_" + axis])
-                    s = float(row["sigma_" + axis])
-                except (KeyError, ValueError):
-                    continue
-                if math.isfinite(e) and math.isfinite(s):
-                    acc = sums[axis]
-                    acc[0] += e * e
-                    acc[1] += s * s
-                    acc[2] += 1
-    return {axis: (math.sqrt(a[0] / a[2]), math.sqrt(a[1] / a[2]))
-            for axis, a in sums.items() if a[2] > 0}
+    """Per axis (RMSE, RMS sigma) over the rows whose error and sigma are both finite (an empty
+    cell, e.g. no estimate, is NaN); a missing column or a bad cell is an error naming file:line."""
+    columns = read_columns(errors_csv, {f"{kind}_{axis}": number
+                                        for axis in AXES for kind in ("e", "sigma")})
+    figures = {}
+    for axis in AXES:
+        pairs = [(e, s) for e, s in zip(columns["e_" + axis], columns["sigma_" + axis])
+                 if math.isfinite(e) and math.isfinite(s)]
+        if pairs:
+            figures[axis] = (math.sqrt(sum(e * e for e, _ in pairs) / len(pairs)),
+                             math.sqrt(sum(s * s for _, s in pairs) / len(pairs)))
+    return figures
 
 
 def main():
@@ -62,7 +62,10 @@ def main():
             continue
         params = json.loads(parameters or "{}")
         key = tuple(sorted(f"{k}={v}" for k, v in params.items()))
-        groups.setdefault(key, {})[seed] = run_figures(path)
+        try:
+            groups.setdefault(key, {})[seed] = run_figures(path)
+        except ReportInputError as e:
+            sys.exit(str(e))
     if not groups:
         sys.exit(f"{args.store}: no run of '{args.estimator}' with an errors.csv")
     seeds = sorted(set.intersection(*(set(g) for g in groups.values())))
